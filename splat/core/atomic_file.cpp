@@ -1,0 +1,35 @@
+#include "splat/core/atomic_file.hpp"
+
+#include <atomic>
+#include <string>
+#include <system_error>
+#include <unistd.h>
+
+#include "splat/core/error.hpp"
+
+namespace splat {
+
+void write_atomically(const std::filesystem::path& file,
+                      const std::function<void(const std::filesystem::path&)>& write) {
+  static std::atomic<unsigned> counter{0};
+  // Unique per process and call, and the same extension as the target.
+  const std::filesystem::path temp =
+      file.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" +
+                            std::to_string(counter++) + "-" + file.filename().string());
+  try {
+    write(temp);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(temp, ignored);
+    throw;
+  }
+  std::error_code ec;
+  std::filesystem::rename(temp, file, ec);
+  if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(temp, ignored);
+    throw InputError(file, "cannot move the finished file into place: " + ec.message());
+  }
+}
+
+}  // namespace splat

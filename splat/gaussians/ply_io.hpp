@@ -1,0 +1,24 @@
+#pragma once
+// Reading and writing the standard 3DGS PLY (the layout the official trainer writes and
+// other splat viewers open):
+//   x y z nx ny nz f_dc_0..2 f_rest_0..M-1 opacity scale_0..2 rot_0..3
+// all `float`, f_rest channel-major (f_rest[c * (K-1) + (k-1)] for channel c, band index k),
+// M = 3 * ((degree + 1)^2 - 1) so the SH degree is inferred from M.
+#include <filesystem>
+
+#include "splat/gaussians/gaussian_model.hpp"
+
+namespace splat {
+
+// Reads binary little-endian, binary big-endian or ASCII PLY. Extra properties are ignored,
+// properties may come in any order. Throws InputError naming the file on a missing file,
+// wrong magic, truncated data, a vertex count the data cannot hold, a missing required
+// property, a required property that is not float, an f_rest count that is no SH degree,
+// or a NaN/Inf value.
+GaussianModel read_ply(const std::filesystem::path& file);
+
+// Writes binary little-endian in the official layout (normals written as zeros), through a
+// temporary file renamed into place, so a failure never leaves a half-written file.
+void write_ply(const GaussianModel& model, const std::filesystem::path& file);
+
+}  // namespace splat

@@ -1,0 +1,70 @@
+#include "test_support.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include "splat/core/error.hpp"
+
+namespace splat::test {
+
+std::filesystem::path scratch_dir(const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::path(SPLAT_TEST_TMP) / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::filesystem::path shared_dir() { return std::filesystem::path(SPLAT_SHARED_DIR); }
+
+double psnr(const Image& a, const Image& b) {
+  if (a.width != b.width || a.height != b.height || a.channels != b.channels)
+    throw ArgumentError("psnr: images differ in size");
+  double sum = 0;
+  for (std::size_t i = 0; i < a.data.size(); ++i) {
+    const double d = double(a.data[i]) - double(b.data[i]);
+    sum += d * d;
+  }
+  const double mse = sum / double(a.data.size());
+  return mse == 0 ? INFINITY : -10.0 * std::log10(mse);
+}
+
+void write_text(const std::filesystem::path& file, const std::string& text) {
+  std::ofstream out(file, std::ios::binary);
+  out << text;
+}
+
+Camera looking_at_origin(int width, int height, float distance, float fov_x) {
+  Camera cam;
+  cam.width = width;
+  cam.height = height;
+  cam.fx = cam.fy = 0.5f * float(width) / std::tan(0.5f * fov_x);
+  cam.cx = 0.5f * float(width);
+  cam.cy = 0.5f * float(height);
+  cam.camera_from_world_translation = glm::vec3(0, 0, distance);  // identity rotation
+  return cam;
+}
+
+GaussianModel random_model(int count, int sh_degree, unsigned seed, float extent,
+                           float min_scale, float max_scale) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::normal_distribution<float> n(0.0f, 1.0f);
+  GaussianModel m;
+  m.sh_degree = sh_degree;
+  m.resize(count);
+  const float log_lo = std::log(min_scale), log_hi = std::log(max_scale);
+  for (int i = 0; i < count; ++i) {
+    for (int a = 0; a < 3; ++a) {
+      m.means[i * 3 + a] = extent * u(rng);
+      m.log_scales[i * 3 + a] = log_lo + (log_hi - log_lo) * 0.5f * (u(rng) + 1.0f);
+    }
+    for (int a = 0; a < 4; ++a) m.quats[i * 4 + a] = n(rng);
+    m.opacity_logits[i] = 2.0f * n(rng);
+    for (int k = 0; k < m.sh_coefficients() * 3; ++k)
+      m.sh[std::size_t(i) * m.sh_coefficients() * 3 + k] = (k < 3 ? 1.0f : 0.3f) * n(rng);
+  }
+  return m;
+}
+
+}  // namespace splat::test

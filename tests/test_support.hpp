@@ -1,0 +1,32 @@
+#pragma once
+// Small helpers shared by the tests: scratch folders, random scenes, image comparison.
+#include <filesystem>
+#include <string>
+
+#include "splat/core/camera.hpp"
+#include "splat/core/image.hpp"
+#include "splat/gaussians/gaussian_model.hpp"
+
+namespace splat::test {
+
+// A fresh empty folder under the build tree for one test (removed first if present).
+std::filesystem::path scratch_dir(const std::string& name);
+
+// The shared/ folder (conformance data, datasets).
+std::filesystem::path shared_dir();
+
+// Peak signal-to-noise ratio over all channels of two same-sized images in [0, 1].
+double psnr(const Image& a, const Image& b);
+
+// Writes `text` to `file` (for hand-made bad inputs).
+void write_text(const std::filesystem::path& file, const std::string& text);
+
+// A camera at `distance` on the -z axis looking at the origin (OpenCV axes), square image.
+Camera looking_at_origin(int width, int height, float distance = 4.0f, float fov_x = 0.8f);
+
+// `count` Gaussians with random parameters in a cube of half-size `extent` around the
+// origin, SH degree `sh_degree`; scales in [min_scale, max_scale] (log-uniform).
+GaussianModel random_model(int count, int sh_degree, unsigned seed, float extent = 1.0f,
+                           float min_scale = 0.02f, float max_scale = 0.3f);
+
+}  // namespace splat::test
