@@ -1,1 +1,44 @@
-// placeholder: implemented in a following commit
+#include "splat/raster/rasterizer.hpp"
+
+#include <chrono>
+#include <string>
+
+#include "splat/core/error.hpp"
+#include "splat/raster/blend.hpp"
+
+namespace splat {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+}  // namespace
+
+void check_render_inputs(const GaussianModel& model, const Camera& camera) {
+  model.check_consistent();
+  if (camera.width <= 0 || camera.height <= 0)
+    throw ArgumentError("render: camera image size " + std::to_string(camera.width) + "x" +
+                        std::to_string(camera.height) + " has no pixels");
+}
+
+void Rasterizer::render(const GaussianModel& model, const Camera& camera,
+                        const RenderSettings& settings, RenderResult& result) {
+  check_render_inputs(model, camera);
+  grid_ = TileGrid::for_image(camera.width, camera.height);
+  result.resize(camera.width, camera.height);
+
+  auto start = Clock::now();
+  project_gaussians(model, camera, settings.sh_degree, projected_);
+  timings_.project_ms = ms_since(start);
+
+  start = Clock::now();
+  bin_and_sort(projected_, grid_, bins_);
+  timings_.bin_sort_ms = ms_since(start);
+
+  start = Clock::now();
+  blend_tiles(projected_, bins_, grid_, settings.background, result);
+  timings_.blend_ms = ms_since(start);
+}
+
+}  // namespace splat

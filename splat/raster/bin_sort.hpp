@@ -1,0 +1,30 @@
+#pragma once
+// Stage 2 of the rasterizer: for every tile, the list of Gaussians it blends, front to back.
+//
+// Conceptually this sorts one (tile, depth) key per Gaussian–tile overlap with a radix sort,
+// as the reference rasterizer does. Every overlap of a Gaussian shares its depth, so the
+// depth digits are sorted once per Gaussian (a stable LSD radix sort of N keys instead of
+// M ≥ N overlap keys) and the tile digit is then a stable counting sort of the overlaps in
+// depth order. Stability makes equal depths keep Gaussian-index order, as in the reference.
+#include <cstdint>
+#include <vector>
+
+#include "splat/raster/project.hpp"
+
+namespace splat {
+
+struct TileBins {
+  std::vector<std::uint32_t> gaussian_ids;  // [M] tile after tile, each front to back
+  std::vector<std::uint32_t> tile_start;    // [tiles + 1] tile t's list is [start[t], start[t+1])
+
+  // Scratch reused across frames.
+  std::vector<std::uint32_t> depth_order, depth_keys, sort_scratch, chunk_counts;
+};
+
+void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, TileBins& bins);
+
+// Stable LSD radix sort of `ids` by `keys[id]` (ascending); `scratch` is resized as needed.
+void radix_sort_by_key(const std::vector<std::uint32_t>& keys, std::vector<std::uint32_t>& ids,
+                       std::vector<std::uint32_t>& scratch);
+
+}  // namespace splat
