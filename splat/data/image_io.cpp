@@ -1,1 +1,178 @@
-// placeholder: implemented in a following commit
+#include "splat/data/image_io.hpp"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "splat/core/atomic_file.hpp"
+#include "splat/core/error.hpp"
+
+namespace splat {
+namespace {
+
+// Larger sides are taken as a corrupt header rather than an allocation to attempt.
+constexpr int kMaxImageSide = 1 << 16;
+constexpr int kMaxPngChannels = 4;
+constexpr const char* kPngFormat = "png";
+// OpenImageIO premultiplies alpha into the colour of PNG/TIFF/... on read, and divides it out
+// again on write, unless told the data are straight ("unassociated"). We want the stored
+// values untouched in both directions.
+constexpr const char* kUnassociatedAlpha = "oiio:UnassociatedAlpha";
+
+// OpenImageIO keeps one pending error per thread for failures that have no ImageInput or
+// ImageOutput to report them. Reading it clears it, so a message can never surface in a
+// later, unrelated call.
+std::string take_global_error() {
+  std::string message = OIIO::geterror();
+  return message.empty() ? "unknown OpenImageIO error" : message;
+}
+
+void discard_stale_global_error() {
+  if (OIIO::has_error()) (void)OIIO::geterror();
+}
+
+template <class T>
+std::string take_error(const T& io) {
+  std::string message = io.geterror();
+  return message.empty() ? "unknown OpenImageIO error" : message;
+}
+
+std::unique_ptr<OIIO::ImageInput> open_input(const std::filesystem::path& file) {
+  discard_stale_global_error();
+  OIIO::ImageSpec config;
+  config.attribute(kUnassociatedAlpha, 1);
+  auto in = OIIO::ImageInput::open(file.string(), &config);
+  if (!in) throw InputError(file, "cannot read image: " + take_global_error());
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.width > kMaxImageSide ||
+      spec.height > kMaxImageSide || spec.nchannels <= 0)
+    throw InputError(file, "implausible image size " + std::to_string(spec.width) + " x " +
+                               std::to_string(spec.height) + " x " +
+                               std::to_string(spec.nchannels));
+  if (spec.depth > 1 || spec.deep)
+    throw InputError(file, "volume and deep images are not supported");
+  return in;
+}
+
+void check_image_shape(const Image& image, const std::filesystem::path& file) {
+  const bool consistent = image.width > 0 && image.height > 0 && image.channels > 0 &&
+                          image.data.size() == image.pixel_count() * std::size_t(image.channels);
+  if (!consistent)
+    throw ArgumentError(file.string() + ": cannot write an empty or inconsistent image (" +
+                        std::to_string(image.width) + " x " + std::to_string(image.height) +
+                        " x " + std::to_string(image.channels) + ", " +
+                        std::to_string(image.data.size()) + " values)");
+}
+
+// Clamps to [0, 1] and rounds to the nearest code; NaN has no sensible code and becomes 0.
+template <class Code>
+std::vector<Code> quantise(const Image& image) {
+  constexpr float kMaxCode = float(std::numeric_limits<Code>::max());
+  std::vector<Code> codes(image.data.size());
+  for (std::size_t i = 0; i < codes.size(); ++i) {
+    float v = image.data[i];
+    v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;  // also maps NaN to 0
+    codes[i] = Code(std::lround(v * kMaxCode));
+  }
+  return codes;
+}
+
+// Writes `pixels` (of `pixel_type`, interleaved like `spec`) to `temp` as `format`, which is a
+// format name or a file name to infer it from. Errors name `file`, the path the user asked for.
+void write_with_oiio(const std::filesystem::path& file, const std::filesystem::path& temp,
+                     const std::string& format, const OIIO::ImageSpec& spec,
+                     OIIO::TypeDesc pixel_type, const void* pixels) {
+  discard_stale_global_error();
+  auto out = OIIO::ImageOutput::create(format);
+  if (!out) throw InputError(file, "no image writer for this format: " + take_global_error());
+  if (!out->open(temp.string(), spec)) {
+    const std::string message = take_error(*out);
+    // OpenImageIO's message names the temporary; the usual cause deserves plain words.
+    const std::filesystem::path folder = file.parent_path();
+    if (!folder.empty() && !std::filesystem::is_directory(folder))
+      throw InputError(file, "cannot create image: folder " + folder.string() +
+                                 " does not exist");
+    throw InputError(file, "cannot create image: " + message);
+  }
+  if (!out->write_image(pixel_type, pixels)) {
+    const std::string message = take_error(*out);
+    out->close();
+    (void)out->geterror();
+    throw InputError(file, "cannot write image: " + message);
+  }
+  if (!out->close()) throw InputError(file, "cannot finish image: " + take_error(*out));
+  // Some writers quietly store a narrower type than asked (PNG has no floats). Checked only
+  // now because abandoning a half-open file makes libpng print; the temporary is discarded.
+  if (out->spec().format != spec.format)
+    throw InputError(file, std::string("this format cannot store ") + spec.format.c_str() +
+                               " pixels (it would write " + out->spec().format.c_str() + ")");
+}
+
+}  // namespace
+
+Image read_image(const std::filesystem::path& file) {
+  auto in = open_input(file);
+  const OIIO::ImageSpec& spec = in->spec();
+  Image image(spec.width, spec.height, spec.nchannels);
+  // Asking for float makes OpenImageIO map integer codes to [0, 1] (code / max code).
+  if (!in->read_image(/*subimage=*/0, /*miplevel=*/0, /*chbegin=*/0, spec.nchannels,
+                      OIIO::TypeDesc::FLOAT, image.data.data())) {
+    const std::string message = take_error(*in);
+    in->close();
+    (void)in->geterror();
+    throw InputError(file, "cannot decode image: " + message);
+  }
+  in->close();
+  (void)in->geterror();  // nothing left pending for the destructor
+  return image;
+}
+
+ImageInfo read_image_info(const std::filesystem::path& file) {
+  auto in = open_input(file);
+  const OIIO::ImageSpec& spec = in->spec();
+  const ImageInfo info{spec.width, spec.height, spec.nchannels};
+  in->close();
+  (void)in->geterror();
+  return info;
+}
+
+void write_png(const Image& image, const std::filesystem::path& file, int bits) {
+  check_image_shape(image, file);
+  if (bits != 8 && bits != 16)
+    throw ArgumentError(file.string() + ": PNG bit depth must be 8 or 16, not " +
+                        std::to_string(bits));
+  if (image.channels > kMaxPngChannels)
+    throw ArgumentError(file.string() + ": PNG holds at most 4 channels, not " +
+                        std::to_string(image.channels));
+  const OIIO::TypeDesc type = bits == 8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::UINT16;
+  OIIO::ImageSpec spec(image.width, image.height, image.channels, type);
+  spec.attribute(kUnassociatedAlpha, 1);
+  if (bits == 8) {
+    const std::vector<std::uint8_t> codes = quantise<std::uint8_t>(image);
+    write_atomically(file, [&](const std::filesystem::path& temp) {
+      write_with_oiio(file, temp, kPngFormat, spec, type, codes.data());
+    });
+  } else {
+    const std::vector<std::uint16_t> codes = quantise<std::uint16_t>(image);
+    write_atomically(file, [&](const std::filesystem::path& temp) {
+      write_with_oiio(file, temp, kPngFormat, spec, type, codes.data());
+    });
+  }
+}
+
+void write_float_image(const Image& image, const std::filesystem::path& file) {
+  check_image_shape(image, file);
+  OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::FLOAT);
+  spec.attribute(kUnassociatedAlpha, 1);
+  write_atomically(file, [&](const std::filesystem::path& temp) {
+    // The temporary keeps the extension, but the user's name is the clearer one to infer from.
+    write_with_oiio(file, temp, file.string(), spec, OIIO::TypeDesc::FLOAT, image.data.data());
+  });
+}
+
+}  // namespace splat

@@ -7,14 +7,26 @@
 namespace splat {
 
 // Reads any format OpenImageIO knows, as float in [0, 1] for integer formats, keeping the
-// file's channel count. Throws InputError naming the file when it cannot be read.
+// file's channel count. Values come back exactly as stored: alpha is not premultiplied into
+// the colour (PNG stores straight alpha, and datasets composite it onto a background
+// themselves). Throws InputError naming the file when it cannot be read.
 Image read_image(const std::filesystem::path& file);
 
-// Writes a PNG with values clamped to [0, 1] and quantised to `bits` (8 or 16) per channel,
-// through a temporary file renamed into place. Throws Error naming the file on failure.
+// Size and channel count from the file's header, without decoding pixels.
+struct ImageInfo {
+  int width = 0, height = 0, channels = 0;
+};
+ImageInfo read_image_info(const std::filesystem::path& file);
+
+// Writes a PNG (whatever the extension) with values clamped to [0, 1] (NaN becomes 0) and
+// rounded to `bits` (8 or 16) per channel, straight alpha, 1 to 4 channels, through a
+// temporary file renamed into place. Throws InputError naming the file when writing fails,
+// ArgumentError for an image or bit depth PNG cannot hold.
 void write_png(const Image& image, const std::filesystem::path& file, int bits = 8);
 
-// Writes raw float data (e.g. EXR) without clamping, through a temporary file.
+// Writes float data without clamping, through a temporary file; the format follows the
+// extension (e.g. .exr, .tif). Throws InputError naming the file when writing fails or the
+// format cannot store 32-bit floats (e.g. .png).
 void write_float_image(const Image& image, const std::filesystem::path& file);
 
 }  // namespace splat
