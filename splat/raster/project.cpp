@@ -64,7 +64,7 @@ void project_gaussians(const GaussianModel& model, const Camera& camera, int sh_
       out.tiles[i] = {0, 0, 0, 0};
       const glm::vec3 mean(model.means[3 * i], model.means[3 * i + 1], model.means[3 * i + 2]);
       const glm::vec3 mean_camera = camera.camera_from_world(mean);
-      if (mean_camera.z <= kNearPlane) continue;
+      if (!(mean_camera.z > kNearPlane)) continue;  // also drops a NaN position
 
       const glm::vec3 scale(std::exp(model.log_scales[3 * i]), std::exp(model.log_scales[3 * i + 1]),
                             std::exp(model.log_scales[3 * i + 2]));
@@ -75,8 +75,15 @@ void project_gaussians(const GaussianModel& model, const Camera& camera, int sh_
                                               camera.fx, camera.fy, tan_fov_x, tan_fov_y);
       Vec3<float> conic;
       if (!invert_covariance_2d(cov2d, conic)) continue;
-      const int radius = screen_radius(cov2d);
       const Vec2<float> center = project_to_pixel(mean_camera, camera.fx, camera.fy, camera.cx, camera.cy);
+      // Non-finite or absurd footprints (NaN parameters, scales overflowing exp) would make
+      // the integer tile arithmetic below undefined; they cannot be drawn, so they are culled.
+      constexpr float kMaxFootprint = 1e7f;
+      if (!(std::abs(center.x) < kMaxFootprint && std::abs(center.y) < kMaxFootprint &&
+            cov2d.xx < kMaxFootprint * kMaxFootprint && cov2d.yy < kMaxFootprint * kMaxFootprint &&
+            std::isfinite(conic.x) && std::isfinite(conic.y) && std::isfinite(conic.z)))
+        continue;
+      const int radius = screen_radius(cov2d);
       TileRect rect = reference_tile_rect(center.x, center.y, radius, grid);
       if (rect.count() == 0) continue;
       out.radius[i] = radius;

@@ -1,0 +1,67 @@
+// Binning and sorting against a direct construction.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "splat/raster/bin_sort.hpp"
+
+namespace splat {
+namespace {
+
+TEST(BinSort, RadixSortIsAStableSortByKey) {
+  std::mt19937 rng(3);
+  std::vector<std::uint32_t> keys(5000);
+  for (auto& k : keys) k = rng() % 300 * 0x01010101u;  // many ties, every byte used
+  std::vector<std::uint32_t> ids(keys.size()), scratch;
+  for (std::uint32_t i = 0; i < ids.size(); ++i) ids[i] = i;
+  std::vector<std::uint32_t> expected = ids;
+  std::stable_sort(expected.begin(), expected.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+  radix_sort_by_key(keys, ids, scratch);
+  EXPECT_EQ(ids, expected);
+}
+
+TEST(BinSort, TileListsHoldEveryOverlapFrontToBack) {
+  std::mt19937 rng(4);
+  const TileGrid grid{7, 5};
+  ProjectedGaussians p;
+  const int n = 2000;
+  p.splats.resize(n);
+  p.radius.assign(n, 1);
+  p.tiles.resize(n);
+  for (int i = 0; i < n; ++i) {
+    p.splats[i].depth = 0.5f + float(rng() % 50) * 0.25f;  // ties on purpose
+    const int x0 = int(rng() % 7), y0 = int(rng() % 5);
+    const int x1 = std::min(7, x0 + int(rng() % 3)), y1 = std::min(5, y0 + 1 + int(rng() % 2));
+    p.tiles[i] = {x0, y0, x1, y1};  // some empty (x1 == x0)
+  }
+  TileBins bins;
+  bin_and_sort(p, grid, bins);
+  ASSERT_EQ(bins.tile_start.size(), std::size_t(grid.count() + 1));
+  for (int t = 0; t < grid.count(); ++t) {
+    const int tx = t % grid.tiles_x, ty = t / grid.tiles_x;
+    std::vector<std::uint32_t> expected;
+    for (int i = 0; i < n; ++i) {
+      const TileRect& r = p.tiles[i];
+      if (tx >= r.x0 && tx < r.x1 && ty >= r.y0 && ty < r.y1) expected.push_back(i);
+    }
+    std::stable_sort(expected.begin(), expected.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return p.splats[a].depth < p.splats[b].depth;
+    });
+    const std::vector<std::uint32_t> got(bins.gaussian_ids.begin() + bins.tile_start[t],
+                                         bins.gaussian_ids.begin() + bins.tile_start[t + 1]);
+    EXPECT_EQ(got, expected) << "tile " << t;
+  }
+}
+
+TEST(BinSort, NoGaussiansGivesEmptyTiles) {
+  ProjectedGaussians p;
+  TileBins bins;
+  bin_and_sort(p, TileGrid{3, 2}, bins);
+  EXPECT_TRUE(bins.gaussian_ids.empty());
+  EXPECT_EQ(bins.tile_start, std::vector<std::uint32_t>(7, 0));
+}
+
+}  // namespace
+}  // namespace splat
