@@ -17,14 +17,18 @@ struct CameraFrame {
 
 struct TransformsOptions {
   // Output size. 0 means: the JSON's "w"/"h" if given, else the size of the first frame's
-  // image if it exists, else 800 x 800. Intrinsics are scaled from the native size.
+  // image if it exists, else 800 x 800. Intrinsics are scaled from the native size
+  // (Camera::resized). Give both or neither: one alone is an ArgumentError.
   int width = 0, height = 0;
 };
 
-// Reads intrinsics from camera_angle_x (and camera_angle_y if present), or fl_x/fl_y/cx/cy
-// with w/h (file-level or per-frame), and every frame's transform_matrix (camera-to-world,
-// OpenGL axes). Throws InputError naming the file for unreadable or malformed JSON, no
-// frames, a missing or non-numeric field, a non-finite matrix, or missing intrinsics.
+// Reads intrinsics from camera_angle_x (and camera_angle_y if present, else fy = fx), or
+// fl_x/fl_y/cx/cy with w/h; each key may sit at file level or in a frame, the frame's value
+// winning (nerfstudio style), and fl_x wins over camera_angle_x. cx, cy default to the image
+// centre (W/2, H/2). Reads every frame's transform_matrix (camera-to-world, OpenGL axes), which
+// must be rigid. Throws InputError naming the file for unreadable or malformed JSON, no
+// frames, a missing or non-numeric field, a non-finite or non-rigid matrix, missing
+// intrinsics, or implausible sizes and focal lengths.
 std::vector<CameraFrame> load_transforms(const std::filesystem::path& file,
                                          const TransformsOptions& options = {});
 
