@@ -95,7 +95,8 @@ class HeaderParser {
 
   void format(const std::vector<std::string_view>& words) {
     if (have_format_) fail("a second 'format' line");
-    if (words.size() != 3) fail("expected 'format <ascii|binary_little_endian|binary_big_endian> 1.0'");
+    if (words.size() != 3)
+      fail("expected 'format <ascii|binary_little_endian|binary_big_endian> 1.0'");
     if (words[1] == "ascii") {
       header_.format = Format::kAscii;
     } else if (words[1] == "binary_little_endian") {
@@ -211,9 +212,11 @@ Header parse_header(std::string_view bytes, const std::filesystem::path& file) {
   for (std::size_t line_number = 2;; ++line_number) {
     const std::size_t newline = window.find('\n', pos);
     if (newline == std::string_view::npos) {
-      if (bytes.size() > window.size())
+      // `bytes` may already be cut to the limit by the caller, so compare with the limit.
+      if (window.size() >= kMaxHeaderBytes)
         throw InputError(file, "no end_header within the first " +
-                                   std::to_string(kMaxHeaderBytes / 1024) + " KiB of the PLY header");
+                                   std::to_string(kMaxHeaderBytes / 1024) +
+                                   " KiB of the PLY header");
       throw InputError(file, "PLY header has no end_header line (file truncated?)");
     }
     if (line_number > kMaxHeaderLines)

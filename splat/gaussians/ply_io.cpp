@@ -330,15 +330,18 @@ void append_little_endian(unsigned char*& out, float value) {
 GaussianModel read_ply(const std::filesystem::path& file) {
   std::error_code ec;
   const std::filesystem::file_status status = std::filesystem::status(file, ec);
-  if (!std::filesystem::exists(status)) throw InputError(file, "file does not exist");
+  if (status.type() == std::filesystem::file_type::not_found)
+    throw InputError(file, "file does not exist");
+  if (ec) throw InputError(file, "cannot access the file: " + ec.message());
   if (!std::filesystem::is_regular_file(status)) throw InputError(file, "not a regular file");
   const std::uint64_t file_size = std::filesystem::file_size(file, ec);
   if (ec) throw InputError(file, "cannot get the file size: " + ec.message());
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file, "cannot open the file for reading");
 
-  std::string head(static_cast<std::size_t>(std::min<std::uint64_t>(file_size, ply::kMaxHeaderBytes)),
-                   '\0');
+  // The header lies within the first kMaxHeaderBytes; parse_header rejects it otherwise.
+  const std::uint64_t head_size = std::min<std::uint64_t>(file_size, ply::kMaxHeaderBytes);
+  std::string head(static_cast<std::size_t>(head_size), '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   if (static_cast<std::size_t>(in.gcount()) != head.size())
     throw InputError(file, "read error in the PLY header");
