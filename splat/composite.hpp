@@ -6,7 +6,7 @@
 // blended and ends the pixel (ray), exactly as the reference 3DGS rasterizer does.
 //
 // Templated on the float type F and mask type M so one definition serves a single ray
-// (F = float/double, M = bool) and eight pixels at once (F = simd::f32x8, M = simd::i32x8).
+// (F = float/double, M = bool) and kLanes pixels at once (F = simd::f32v, M = simd::i32v).
 // It is a header so the compiler inlines it into the per-pixel hot loop.
 #include "splat/core/simd.hpp"
 

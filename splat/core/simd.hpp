@@ -1,70 +1,88 @@
 #pragma once
-// Eight-lane float and mask vectors (GCC/Clang vector extensions). The compiler lowers them to
-// AVX/AVX-512 with -march=native and to pairs of SSE registers otherwise, so the code stays
-// portable while the hot loops run one instruction per eight pixels.
+// Float and mask vectors of kLanes lanes (GCC/Clang vector extensions): 16 lanes where the
+// CPU has AVX-512 (one 16-pixel tile row per instruction), else 8. The compiler lowers
+// them to whatever the target has (pairs of SSE registers at worst), so the code stays
+// portable while the hot loops run one instruction per kLanes pixels.
 //
 // The helpers below have scalar overloads too, so templated code (the shared compositor)
-// runs unchanged on `float` + `bool` (one ray) or `f32x8` + `i32x8` (eight pixels).
+// runs unchanged on `float` + `bool` (one ray) or `f32v` + `i32v` (kLanes pixels).
 #include <cstdint>
 #include <cstring>
+#if defined(__AVX__) || defined(__AVX512F__)
+#include <immintrin.h>
+#endif
 
 namespace splat::simd {
 
+#if defined(__AVX512F__)
+constexpr int kLanes = 16;
+#else
 constexpr int kLanes = 8;
-using f32x8 = float __attribute__((vector_size(32)));
-using i32x8 = std::int32_t __attribute__((vector_size(32)));  // lanes are 0 or -1 (all bits)
+#endif
+using f32v = float __attribute__((vector_size(4 * kLanes)));
+using i32v = std::int32_t __attribute__((vector_size(4 * kLanes)));  // lanes are 0 or -1
 
 // Lane-wise choice: where `mask` is set take `a`, else `b`.
-inline f32x8 select(i32x8 mask, f32x8 a, f32x8 b) { return mask ? a : b; }
-inline i32x8 select(i32x8 mask, i32x8 a, i32x8 b) { return mask ? a : b; }
+inline f32v select(i32v mask, f32v a, f32v b) { return mask ? a : b; }
+inline i32v select(i32v mask, i32v a, i32v b) { return mask ? a : b; }
 inline float select(bool mask, float a, float b) { return mask ? a : b; }
 inline double select(bool mask, double a, double b) { return mask ? a : b; }
 
-inline i32x8 mask_and(i32x8 a, i32x8 b) { return a & b; }
-inline i32x8 mask_and_not(i32x8 a, i32x8 b) { return a & ~b; }  // a and not b
-inline i32x8 mask_or(i32x8 a, i32x8 b) { return a | b; }
+inline i32v mask_and(i32v a, i32v b) { return a & b; }
+inline i32v mask_and_not(i32v a, i32v b) { return a & ~b; }  // a and not b
+inline i32v mask_or(i32v a, i32v b) { return a | b; }
 inline bool mask_and(bool a, bool b) { return a && b; }
 inline bool mask_and_not(bool a, bool b) { return a && !b; }
 inline bool mask_or(bool a, bool b) { return a || b; }
 
-inline bool any(i32x8 mask) {
-  std::uint64_t words[4];
+inline bool any(i32v mask) {
+#if defined(__AVX512F__)
+  const __m512i m = reinterpret_cast<__m512i>(mask);
+  return _mm512_test_epi32_mask(m, m) != 0;  // one mask-register test
+#elif defined(__AVX__)
+  const __m256i m = reinterpret_cast<__m256i>(mask);
+  return !_mm256_testz_si256(m, m);
+#else
+  std::uint64_t words[kLanes / 2];
   std::memcpy(words, &mask, sizeof(mask));
-  return (words[0] | words[1] | words[2] | words[3]) != 0;
+  std::uint64_t bits = 0;
+  for (std::uint64_t w : words) bits |= w;
+  return bits != 0;
+#endif
 }
 inline bool any(bool mask) { return mask; }
 
-inline int count(i32x8 mask) {
+inline int count(i32v mask) {
   int n = 0;
   for (int i = 0; i < kLanes; ++i) n += mask[i] != 0;
   return n;
 }
 
-inline f32x8 broadcast(float x) { return f32x8{} + x; }
-inline f32x8 min(f32x8 a, f32x8 b) { return a < b ? a : b; }
-inline f32x8 max(f32x8 a, f32x8 b) { return a > b ? a : b; }
+inline f32v broadcast(float x) { return f32v{} + x; }
+inline f32v min(f32v a, f32v b) { return a < b ? a : b; }
+inline f32v max(f32v a, f32v b) { return a > b ? a : b; }
 
 // e^x for x <= 0, relative error below 2e-7 (a few ulp), flushing to 0 below -87.
 // Cody-Waite range reduction x = n ln2 + r, |r| <= ln2/2, then a degree-6 Taylor-like
 // minimax polynomial for e^r; 2^n is built in the exponent bits. Deterministic on every
 // machine (no libm call), which keeps renders identical across platforms and thread counts.
-inline f32x8 exp_nonpositive(f32x8 x) {
+inline f32v exp_nonpositive(f32v x) {
   constexpr float kLog2e = 1.44269504088896341f;
   constexpr float kLn2Hi = 0.693359375f;
   constexpr float kLn2Lo = -2.12194440e-4f;
   x = max(x, broadcast(-87.0f));
-  const f32x8 n = __builtin_convertvector(
-      __builtin_convertvector(x * kLog2e - 0.5f, i32x8), f32x8);  // round(x log2e): truncation of (x log2e - 0.5) for x <= 0
-  const f32x8 r = (x - n * kLn2Hi) - n * kLn2Lo;
-  f32x8 p = broadcast(1.9875691500e-4f);
+  const f32v n = __builtin_convertvector(
+      __builtin_convertvector(x * kLog2e - 0.5f, i32v), f32v);  // round(x log2e): truncation of (x log2e - 0.5) for x <= 0
+  const f32v r = (x - n * kLn2Hi) - n * kLn2Lo;
+  f32v p = broadcast(1.9875691500e-4f);
   p = p * r + 1.3981999507e-3f;
   p = p * r + 8.3334519073e-3f;
   p = p * r + 4.1665795894e-2f;
   p = p * r + 1.6666665459e-1f;
   p = p * r + 5.0000001201e-1f;
   p = p * r * r + r + 1.0f;
-  const i32x8 exponent = (__builtin_convertvector(n, i32x8) + 127) << 23;
-  f32x8 scale;
+  const i32v exponent = (__builtin_convertvector(n, i32v) + 127) << 23;
+  f32v scale;
   std::memcpy(&scale, &exponent, sizeof(scale));
   return p * scale;
 }
