@@ -17,18 +17,6 @@ std::filesystem::path scratch_dir(const std::string& name) {
 
 std::filesystem::path shared_dir() { return std::filesystem::path(SPLAT_SHARED_DIR); }
 
-double psnr(const Image& a, const Image& b) {
-  if (a.width != b.width || a.height != b.height || a.channels != b.channels)
-    throw ArgumentError("psnr: images differ in size");
-  double sum = 0;
-  for (std::size_t i = 0; i < a.data.size(); ++i) {
-    const double d = double(a.data[i]) - double(b.data[i]);
-    sum += d * d;
-  }
-  const double mse = sum / double(a.data.size());
-  return mse == 0 ? INFINITY : -10.0 * std::log10(mse);
-}
-
 void write_text(const std::filesystem::path& file, const std::string& text) {
   std::ofstream out(file, std::ios::binary);
   out << text;

@@ -5,6 +5,7 @@
 
 #include "splat/core/camera.hpp"
 #include "splat/core/image.hpp"
+#include "splat/eval/metrics.hpp"
 #include "splat/gaussians/gaussian_model.hpp"
 
 namespace splat::test {
@@ -14,9 +15,6 @@ std::filesystem::path scratch_dir(const std::string& name);
 
 // The shared/ folder (conformance data, datasets).
 std::filesystem::path shared_dir();
-
-// Peak signal-to-noise ratio over all channels of two same-sized images in [0, 1].
-double psnr(const Image& a, const Image& b);
 
 // Writes `text` to `file` (for hand-made bad inputs).
 void write_text(const std::filesystem::path& file, const std::string& text);

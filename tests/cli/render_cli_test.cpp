@@ -48,7 +48,7 @@ TEST(RenderCli, RendersConformanceViewsAbove45Db) {
   for (const char* name : {"r_0", "r_48", "r_96"}) {
     const Image ours = read_image(dir / "out" / (std::string(name) + ".png"));
     const Image reference = read_image(test::shared_dir() / "conformance" / "reference" / (std::string(name) + ".png"));
-    EXPECT_GE(test::psnr(ours, reference), 45.0) << name;
+    EXPECT_GE(psnr(ours, reference), 45.0) << name;
   }
   int pngs = 0;
   for (const auto& e : std::filesystem::directory_iterator(dir / "out")) pngs += e.path().extension() == ".png";

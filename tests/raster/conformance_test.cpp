@@ -32,7 +32,7 @@ TEST(Conformance, EveryReferenceViewAbove45Db) {
     for (float& v : ours.data) v = std::clamp(v, 0.0f, 1.0f);  // as the reference script does
     const Image reference = read_image(dir / "reference" / (frame.name + ".png"));
     ASSERT_EQ(reference.channels, 3);
-    const double db = test::psnr(ours, reference);
+    const double db = psnr(ours, reference);
     EXPECT_GE(db, kConformancePsnrDb) << frame.name;
     std::printf("conformance %s: %.2f dB\n", frame.name.c_str(), db);
   }

@@ -1,0 +1,63 @@
+// splat-psnr A B: PSNR between two images, or between same-named PNGs of two folders
+// (one line per image, then the minimum and mean). Used for the conformance protocol (P2):
+//   splat-psnr OUT ../shared/conformance/reference
+#include <algorithm>
+#include <cstdio>
+#include <vector>
+
+#include "common/arg_parser.hpp"
+#include "common/run_main.hpp"
+#include "splat/core/error.hpp"
+#include "splat/data/image_io.hpp"
+#include "splat/eval/metrics.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Colour channels only: an alpha channel is not part of the picture's PSNR.
+splat::Image rgb_of(const splat::Image& image) {
+  if (image.channels == 3) return image;
+  if (image.channels != 4) return image;
+  splat::Image rgb(image.width, image.height, 3);
+  for (std::size_t p = 0; p < image.pixel_count(); ++p)
+    for (int c = 0; c < 3; ++c) rgb.data[3 * p + c] = image.data[4 * p + c];
+  return rgb;
+}
+
+double psnr_of_files(const fs::path& a, const fs::path& b) {
+  return splat::psnr(rgb_of(splat::read_image(a)), rgb_of(splat::read_image(b)));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return splat::cli::run_main([&] {
+    splat::cli::ArgParser args(argc, argv, {}, {"help"});
+    if (args.has("help") || args.positionals().size() != 2) {
+      std::fputs("usage: splat-psnr A B   (two images, or two folders of same-named PNGs)\n",
+                 args.has("help") ? stdout : stderr);
+      return args.has("help") ? 0 : 2;
+    }
+    const fs::path a = args.positionals()[0], b = args.positionals()[1];
+    if (!fs::is_directory(a)) {
+      std::printf("%.3f\n", psnr_of_files(a, b));
+      return 0;
+    }
+    std::vector<fs::path> names;
+    for (const auto& entry : fs::directory_iterator(a))
+      if (entry.path().extension() == ".png") names.push_back(entry.path().filename());
+    if (names.empty()) throw splat::InputError(a, "no PNG images in the folder");
+    std::sort(names.begin(), names.end());
+    double minimum = 1e300, sum = 0;
+    for (const fs::path& name : names) {
+      if (!fs::exists(b / name)) throw splat::InputError(b / name, "no image of that name to compare with");
+      const double db = psnr_of_files(a / name, b / name);
+      std::printf("%s %.3f dB\n", name.string().c_str(), db);
+      minimum = std::min(minimum, db);
+      sum += db;
+    }
+    std::printf("images %zu  min %.3f dB  mean %.3f dB\n", names.size(), minimum, sum / double(names.size()));
+    return 0;
+  });
+}
