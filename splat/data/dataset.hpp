@@ -1,0 +1,50 @@
+#pragma once
+// Training datasets: Blender / NeRF-synthetic folders and COLMAP folders, detected
+// automatically (DESIGN.md, "--data").
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "splat/core/camera.hpp"
+#include "splat/core/image.hpp"
+
+namespace splat {
+
+struct DatasetView {
+  std::string name;        // image base name, e.g. "r_1" or "000"
+  Camera camera;           // pinhole, internal convention, at the loaded (downscaled) size
+  Image image;             // [H, W, 3] in [0, 1], alpha composited onto the background
+};
+
+// Points to initialise Gaussians from (COLMAP points3D).
+struct PointCloud {
+  std::vector<float> positions;  // [P, 3]
+  std::vector<float> colors;     // [P, 3] in [0, 1]
+  std::size_t size() const { return positions.size() / 3; }
+};
+
+struct DatasetOptions {
+  float background[3] = {1, 1, 1};  // RGBA images are composited onto this
+  int downscale = 1;                // images resampled to 1/downscale (area filter), intrinsics scaled
+};
+
+struct Dataset {
+  std::vector<DatasetView> train, test;
+  std::optional<PointCloud> points;  // COLMAP: points3D; Blender: none
+  // NeRF++-style normalisation radius as the official trainer computes it: 1.1 × the largest
+  // distance of a training camera centre from their mean. Scales position learning rates and
+  // the densification thresholds.
+  float scene_extent = 1.0f;
+};
+
+// Loads `folder`: a Blender folder (transforms_train.json, and transforms_test.json or
+// transforms_val.json) or a COLMAP folder (sparse/0/{cameras,images,points3D}.{bin,txt} and
+// images/). COLMAP: PINHOLE and SIMPLE_PINHOLE as they are; SIMPLE_RADIAL, RADIAL and OPENCV
+// undistorted on load to a pinhole camera with the same focal length and principal point;
+// test views are every 8th image in name order (i % 8 == 0). Throws InputError naming the
+// file on missing or unreadable images, images of the wrong size, a transforms file without
+// frames, an unknown camera model, an empty point cloud, or a folder of neither kind.
+Dataset load_dataset(const std::filesystem::path& folder, const DatasetOptions& options = {});
+
+}  // namespace splat
