@@ -59,4 +59,48 @@ inline F composite_finish(const CompositeAccum<F>& acc, int channel, float backg
   return acc.color[channel] + acc.transmittance * background;
 }
 
+// ---- Backward -------------------------------------------------------------------------
+// Walking the blended samples back to front, the transmittance in front of sample i is
+// rebuilt from the one behind it, Tᵢ = Tᵢ₊₁ / (1 − αᵢ), starting from the saved final T.
+// With Bᵢ = Σⱼ>ᵢ αⱼ cⱼ Πᵢ<ₖ<ⱼ (1 − αₖ) the colour composited behind i (per unit of Tᵢ₊₁):
+//   ∂C/∂cᵢ = Tᵢ αᵢ
+//   ∂C/∂αᵢ = Tᵢ (cᵢ − Bᵢ) − T_N / (1 − αᵢ) · bg
+// and Bᵢ₋₁ = αᵢ cᵢ + (1 − αᵢ) Bᵢ. (The bg term: every Tⱼ, j > i, and T_N hold a factor (1 − αᵢ).)
+
+template <class F>
+struct CompositeReverse {
+  F transmittance;  // Tᵢ₊₁ while undoing sample i: starts at the final T
+  F behind[3];      // Bᵢ per channel: starts at 0
+
+  static CompositeReverse start(F final_transmittance) {
+    CompositeReverse r;
+    r.transmittance = final_transmittance;
+    r.behind[0] = r.behind[1] = r.behind[2] = F{};
+    return r;
+  }
+};
+
+// Undoes one sample in the lanes of `blended` (the lanes where the forward pass blended it),
+// given the pixel's colour cotangent v_pixel and the constants T_N and bg·v_pixel. Writes
+// ∂L/∂α and ∂L/∂c for the sample (zero in the other lanes).
+template <class F, class M>
+inline void composite_step_vjp(CompositeReverse<F>& r, M blended, F alpha, F red, F green, F blue,
+                               const F v_pixel[3], F final_transmittance, F background_dot_v,
+                               F& v_alpha, F v_color[3]) {
+  using simd::select;
+  const F one_minus_alpha = 1.0f - alpha;
+  const F transmittance = r.transmittance / one_minus_alpha;  // Tᵢ
+  const F weight = alpha * transmittance;
+  const F color[3] = {red, green, blue};
+  F dot = F{};
+  for (int c = 0; c < 3; ++c) {
+    v_color[c] = select(blended, weight * v_pixel[c], F{});
+    dot = dot + (color[c] - r.behind[c]) * v_pixel[c];
+    r.behind[c] = select(blended, alpha * color[c] + one_minus_alpha * r.behind[c], r.behind[c]);
+  }
+  v_alpha = select(blended, transmittance * dot - final_transmittance / one_minus_alpha * background_dot_v,
+                   F{});
+  r.transmittance = select(blended, transmittance, r.transmittance);
+}
+
 }  // namespace splat

@@ -58,6 +58,19 @@ inline int count(i32v mask) {
   return n;
 }
 
+// Sum of the lanes, always in the same order (deterministic).
+inline float reduce_add(f32v v) {
+  float sum = 0.0f;
+  for (int i = 0; i < kLanes; ++i) sum += v[i];
+  return sum;
+}
+
+inline int reduce_max(i32v v) {
+  int m = v[0];
+  for (int i = 1; i < kLanes; ++i) m = v[i] > m ? v[i] : m;
+  return m;
+}
+
 inline f32v broadcast(float x) { return f32v{} + x; }
 inline f32v min(f32v a, f32v b) { return a < b ? a : b; }
 inline f32v max(f32v a, f32v b) { return a > b ? a : b; }

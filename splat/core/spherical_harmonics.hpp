@@ -53,4 +53,50 @@ inline glm::vec<3, T> sh_evaluate(int degree, const T* coeffs, const glm::vec<3,
   return sum;
 }
 
+// Backward of sh_basis: v_dir = Σₖ v_basis[k] ∂Yₖ/∂dir (dir treated as free, not unit;
+// the caller chains through the normalisation). Each line differentiates the matching
+// line of sh_basis.
+template <class T>
+inline glm::vec<3, T> sh_basis_vjp(int degree, const glm::vec<3, T>& dir, const T* v_basis) {
+  glm::vec<3, T> v(T(0));
+  if (degree < 1) return v;
+  const T x = dir.x, y = dir.y, z = dir.z;
+  v.y += -T(kShC1) * v_basis[1];
+  v.z += T(kShC1) * v_basis[2];
+  v.x += -T(kShC1) * v_basis[3];
+  if (degree < 2) return v;
+  const T xx = x * x, yy = y * y, zz = z * z;
+  v += T(kShC2[0]) * v_basis[4] * glm::vec<3, T>(y, x, 0);
+  v += T(kShC2[1]) * v_basis[5] * glm::vec<3, T>(0, z, y);
+  v += T(kShC2[2]) * v_basis[6] * glm::vec<3, T>(-2 * x, -2 * y, 4 * z);
+  v += T(kShC2[3]) * v_basis[7] * glm::vec<3, T>(z, 0, x);
+  v += T(kShC2[4]) * v_basis[8] * glm::vec<3, T>(2 * x, -2 * y, 0);
+  if (degree < 3) return v;
+  v += T(kShC3[0]) * v_basis[9] * glm::vec<3, T>(6 * x * y, 3 * xx - 3 * yy, 0);
+  v += T(kShC3[1]) * v_basis[10] * glm::vec<3, T>(y * z, x * z, x * y);
+  v += T(kShC3[2]) * v_basis[11] * glm::vec<3, T>(-2 * x * y, 4 * zz - xx - 3 * yy, 8 * y * z);
+  v += T(kShC3[3]) * v_basis[12] * glm::vec<3, T>(-6 * x * z, -6 * y * z, 6 * zz - 3 * xx - 3 * yy);
+  v += T(kShC3[4]) * v_basis[13] * glm::vec<3, T>(4 * zz - 3 * xx - yy, -2 * x * y, 8 * x * z);
+  v += T(kShC3[5]) * v_basis[14] * glm::vec<3, T>(2 * x * z, -2 * y * z, xx - yy);
+  v += T(kShC3[6]) * v_basis[15] * glm::vec<3, T>(3 * xx - 3 * yy, -6 * x * y, 0);
+  return v;
+}
+
+// Backward of sh_evaluate: v_coeffs[k][c] += Yₖ v_out[c] (accumulated), and returns v_dir.
+template <class T>
+inline glm::vec<3, T> sh_evaluate_vjp(int degree, const T* coeffs, const glm::vec<3, T>& dir,
+                                      const glm::vec<3, T>& v_out, T* v_coeffs) {
+  T basis[16], v_basis[16];
+  sh_basis(degree, dir, basis);
+  const int count = (degree + 1) * (degree + 1);
+  for (int k = 0; k < count; ++k) {
+    v_basis[k] = T(0);
+    for (int c = 0; c < 3; ++c) {
+      v_coeffs[3 * k + c] += basis[k] * v_out[c];
+      v_basis[k] += coeffs[3 * k + c] * v_out[c];
+    }
+  }
+  return sh_basis_vjp(degree, dir, v_basis);
+}
+
 }  // namespace splat

@@ -92,6 +92,11 @@ void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, Til
                 " Gaussian-tile overlaps exceed the 32-bit list index; render smaller");
   bins.tile_start[tile_count] = std::uint32_t(total);
   bins.gaussian_ids.resize(total);
+  bins.overlap_position.resize(total);
+  bins.overlap_start.resize(n + 1);
+  bins.overlap_start[0] = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    bins.overlap_start[i + 1] = bins.overlap_start[i] + std::uint32_t(projected.tiles[i].count());
 
   // 4. Fill, each chunk into its own slots.
   tbb::parallel_for(std::size_t(0), kFillChunks, [&](std::size_t chunk) {
@@ -100,9 +105,13 @@ void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, Til
     for (std::size_t k = chunk * chunk_size; k < end; ++k) {
       const std::uint32_t id = order[k];
       const TileRect& r = projected.tiles[id];
+      std::uint32_t* positions = &bins.overlap_position[bins.overlap_start[id]];
       for (int ty = r.y0; ty < r.y1; ++ty)
-        for (int tx = r.x0; tx < r.x1; ++tx)
-          bins.gaussian_ids[next[std::size_t(ty) * grid.tiles_x + tx]++] = id;
+        for (int tx = r.x0; tx < r.x1; ++tx) {
+          const std::uint32_t position = next[std::size_t(ty) * grid.tiles_x + tx]++;
+          bins.gaussian_ids[position] = id;
+          *positions++ = position;
+        }
     }
   });
 }

@@ -16,6 +16,11 @@ namespace splat {
 struct TileBins {
   std::vector<std::uint32_t> gaussian_ids;  // [M] tile after tile, each front to back
   std::vector<std::uint32_t> tile_start;    // [tiles + 1] tile t's list is [start[t], start[t+1])
+  // The inverse map, for the backward pass to gather each Gaussian's per-tile gradients in a
+  // fixed order: Gaussian i's overlaps are overlap_position[overlap_start[i] .. [i+1]),
+  // positions in gaussian_ids, in the row-major order of its tile rectangle.
+  std::vector<std::uint32_t> overlap_start;     // [N + 1]
+  std::vector<std::uint32_t> overlap_position;  // [M]
 
   // Scratch reused across frames.
   std::vector<std::uint32_t> depth_order, depth_keys, sort_scratch, chunk_counts;

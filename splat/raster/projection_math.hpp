@@ -21,6 +21,12 @@ inline Mat3<T> mat3_from_rows(T a00, T a01, T a02, T a10, T a11, T a12, T a20, T
   return Mat3<T>(a00, a10, a20, a01, a11, a21, a02, a12, a22);
 }
 
+// Matrix element by (row, column), as written on paper (glm indexes [column][row]).
+template <class T>
+inline T& at(Mat3<T>& m, int row, int col) { return m[col][row]; }
+template <class T>
+inline T at(const Mat3<T>& m, int row, int col) { return m[col][row]; }
+
 // Rotation matrix of the normalised quaternion q = (w, x, y, z).
 template <class T>
 inline Mat3<T> quat_to_rotmat(const Vec4<T>& q) {
@@ -34,12 +40,48 @@ inline Mat3<T> quat_to_rotmat(const Vec4<T>& q) {
                            T(1) - T(2) * (x * x + y * y));
 }
 
+// v_q from v_R. R is written in the normalised n = q/|q|; each entry's partial derivatives
+// in (w, x, y, z) are listed beside it. Then n = q/|q| gives v_q = (v_n − n (n·v_n)) / |q|.
+template <class T>
+inline Vec4<T> quat_to_rotmat_vjp(const Vec4<T>& q, const Mat3<T>& v_r) {
+  const T norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  const Vec4<T> n = q / norm;
+  const T w = n[0], x = n[1], y = n[2], z = n[3];
+  auto g = [&](int row, int col) { return at(v_r, row, col); };
+  Vec4<T> v_n;
+  // R00 = 1−2(y²+z²)   R01 = 2(xy−wz)   R02 = 2(xz+wy)
+  // R10 = 2(xy+wz)     R11 = 1−2(x²+z²) R12 = 2(yz−wx)
+  // R20 = 2(xz−wy)     R21 = 2(yz+wx)   R22 = 1−2(x²+y²)
+  v_n[0] = T(2) * (-z * g(0, 1) + y * g(0, 2) + z * g(1, 0) - x * g(1, 2) - y * g(2, 0) + x * g(2, 1));
+  v_n[1] = T(2) * (y * g(0, 1) + z * g(0, 2) + y * g(1, 0) - T(2) * x * g(1, 1) - w * g(1, 2) +
+                   z * g(2, 0) + w * g(2, 1) - T(2) * x * g(2, 2));
+  v_n[2] = T(2) * (-T(2) * y * g(0, 0) + x * g(0, 1) + w * g(0, 2) + x * g(1, 0) + z * g(1, 2) -
+                   w * g(2, 0) + z * g(2, 1) - T(2) * y * g(2, 2));
+  v_n[3] = T(2) * (-T(2) * z * g(0, 0) - w * g(0, 1) + x * g(0, 2) + w * g(1, 0) -
+                   T(2) * z * g(1, 1) + y * g(1, 2) + x * g(2, 0) + y * g(2, 1));
+  return (v_n - n * glm::dot(n, v_n)) / norm;
+}
+
 // World-space covariance Σ = R S Sᵀ Rᵀ with S = diag(scale).
 template <class T>
 inline Mat3<T> covariance_3d(const Vec3<T>& scale, const Mat3<T>& rotation) {
   Mat3<T> m = rotation;  // M = R S: column j of R scaled by scale[j]
   for (int j = 0; j < 3; ++j) m[j] *= scale[j];
   return m * glm::transpose(m);
+}
+
+// Σ = M Mᵀ with M = R S: v_M = (v_Σ + v_Σᵀ) M; column j of M is s_j R[:, j], so
+// v_R[:, j] = s_j v_M[:, j] and v_s_j = R[:, j] · v_M[:, j].
+template <class T>
+inline void covariance_3d_vjp(const Vec3<T>& scale, const Mat3<T>& rotation, const Mat3<T>& v_cov,
+                              Vec3<T>& v_scale, Mat3<T>& v_rotation) {
+  Mat3<T> m = rotation;
+  for (int j = 0; j < 3; ++j) m[j] *= scale[j];
+  const Mat3<T> v_m = (v_cov + glm::transpose(v_cov)) * m;
+  for (int j = 0; j < 3; ++j) {  // glm column j
+    v_rotation[j] = v_m[j] * scale[j];
+    v_scale[j] = glm::dot(rotation[j], v_m[j]);
+  }
 }
 
 // Upper triangle of a symmetric 2x2 matrix [[xx, xy], [xy, yy]].
@@ -53,21 +95,71 @@ struct Sym2 {
 // Gaussian's camera-space mean, evaluated with x/z and y/z clamped to ±1.3·tan(fov/2) so
 // Gaussians far outside the view do not blow up.
 template <class T>
+inline Mat3<T> projection_jacobian(const Vec3<T>& mean_camera, T fx, T fy, T tan_half_fov_x,
+                                   T tan_half_fov_y, T& x, T& y);
+
+template <class T>
 inline Sym2<T> covariance_2d(const Vec3<T>& mean_camera, const Mat3<T>& covariance_world,
                              const Mat3<T>& camera_from_world_rotation, T fx, T fy,
                              T tan_half_fov_x, T tan_half_fov_y) {
+  T x, y;
+  const Mat3<T> jacobian =
+      projection_jacobian(mean_camera, fx, fy, tan_half_fov_x, tan_half_fov_y, x, y);
+  const Mat3<T> t = jacobian * camera_from_world_rotation;
+  const Mat3<T> cov = t * covariance_world * glm::transpose(t);
+  return {at(cov, 0, 0) + T(kCovarianceDilation), at(cov, 0, 1),
+          at(cov, 1, 1) + T(kCovarianceDilation)};
+}
+
+// The Jacobian of the perspective projection at `mean_camera`, x/z and y/z clamped.
+// Returns it with the clamped x, y it was evaluated at.
+template <class T>
+inline Mat3<T> projection_jacobian(const Vec3<T>& mean_camera, T fx, T fy, T tan_half_fov_x,
+                                   T tan_half_fov_y, T& x, T& y) {
   const T z = mean_camera.z;
   const T limit_x = T(kJacobianClamp) * tan_half_fov_x;
   const T limit_y = T(kJacobianClamp) * tan_half_fov_y;
-  const T x = std::min(limit_x, std::max(-limit_x, mean_camera.x / z)) * z;
-  const T y = std::min(limit_y, std::max(-limit_y, mean_camera.y / z)) * z;
-  const Mat3<T> jacobian = mat3_from_rows<T>(fx / z, T(0), -fx * x / (z * z),  //
-                                             T(0), fy / z, -fy * y / (z * z),  //
-                                             T(0), T(0), T(0));
+  x = std::min(limit_x, std::max(-limit_x, mean_camera.x / z)) * z;
+  y = std::min(limit_y, std::max(-limit_y, mean_camera.y / z)) * z;
+  return mat3_from_rows<T>(fx / z, T(0), -fx * x / (z * z),  //
+                           T(0), fy / z, -fy * y / (z * z),  //
+                           T(0), T(0), T(0));
+}
+
+// Backward of covariance_2d: v_mean_camera (through the Jacobian) and v_covariance_world.
+// The output is (Σ'00, Σ'01, Σ'11), so v_cov2d is a matrix G with G00 = v.xx, G01 = v.xy,
+// G11 = v.yy (G10 = 0). With T = J W and Σ' = T Σ Tᵀ: v_Σ = Tᵀ G T, v_T = (G + Gᵀ) T Σ,
+// v_J = v_T Wᵀ. Where x/z is clamped, x = ±limit·z: the gradient to the camera x is zero
+// and z receives ±limit times the x cotangent instead (the exact derivative of the clamp).
+template <class T>
+inline void covariance_2d_vjp(const Vec3<T>& mean_camera, const Mat3<T>& covariance_world,
+                              const Mat3<T>& camera_from_world_rotation, T fx, T fy,
+                              T tan_half_fov_x, T tan_half_fov_y, const Sym2<T>& v_cov2d,
+                              Vec3<T>& v_mean_camera, Mat3<T>& v_covariance_world) {
+  T x, y;
+  const Mat3<T> jacobian =
+      projection_jacobian(mean_camera, fx, fy, tan_half_fov_x, tan_half_fov_y, x, y);
   const Mat3<T> t = jacobian * camera_from_world_rotation;
-  const Mat3<T> cov = t * covariance_world * glm::transpose(t);
-  // glm indexes [column][row]; the matrix is symmetric up to rounding.
-  return {cov[0][0] + T(kCovarianceDilation), cov[1][0], cov[1][1] + T(kCovarianceDilation)};
+  Mat3<T> g(T(0));
+  at(g, 0, 0) = v_cov2d.xx;
+  at(g, 0, 1) = v_cov2d.xy;
+  at(g, 1, 1) = v_cov2d.yy;
+  v_covariance_world = glm::transpose(t) * g * t;
+  const Mat3<T> v_t = (g + glm::transpose(g)) * t * covariance_world;
+  const Mat3<T> v_j = v_t * glm::transpose(camera_from_world_rotation);
+  const T z = mean_camera.z, z2 = z * z, z3 = z2 * z;
+  // J00 = fx/z, J02 = −fx x/z², J11 = fy/z, J12 = −fy y/z².
+  const T v_x = -fx / z2 * at(v_j, 0, 2);
+  const T v_y = -fy / z2 * at(v_j, 1, 2);
+  T v_z = -fx / z2 * at(v_j, 0, 0) + T(2) * fx * x / z3 * at(v_j, 0, 2) - fy / z2 * at(v_j, 1, 1) +
+          T(2) * fy * y / z3 * at(v_j, 1, 2);
+  const T limit_x = T(kJacobianClamp) * tan_half_fov_x;
+  const T limit_y = T(kJacobianClamp) * tan_half_fov_y;
+  const T ratio_x = mean_camera.x / z, ratio_y = mean_camera.y / z;
+  T v_mx = 0, v_my = 0;
+  if (ratio_x < -limit_x || ratio_x > limit_x) v_z += (x / z) * v_x; else v_mx = v_x;
+  if (ratio_y < -limit_y || ratio_y > limit_y) v_z += (y / z) * v_y; else v_my = v_y;
+  v_mean_camera = Vec3<T>(v_mx, v_my, v_z);
 }
 
 // Pixel position of a camera-space point, in the reference convention (pixel centres at
@@ -78,6 +170,13 @@ inline Vec2<T> project_to_pixel(const Vec3<T>& mean_camera, T fx, T fy, T cx, T 
   return {fx * mean_camera.x * inv_z + cx - T(0.5), fy * mean_camera.y * inv_z + cy - T(0.5)};
 }
 
+template <class T>
+inline Vec3<T> project_to_pixel_vjp(const Vec3<T>& mean_camera, T fx, T fy, const Vec2<T>& v_pixel) {
+  const T inv_z = T(1) / mean_camera.z;
+  return {fx * inv_z * v_pixel.x, fy * inv_z * v_pixel.y,
+          -(fx * mean_camera.x * v_pixel.x + fy * mean_camera.y * v_pixel.y) * inv_z * inv_z};
+}
+
 // Conic (inverse of Σ') as (a, b, c) for [[a, b], [b, c]]; false when Σ' is singular.
 template <class T>
 inline bool invert_covariance_2d(const Sym2<T>& cov, Vec3<T>& conic) {
@@ -86,6 +185,20 @@ inline bool invert_covariance_2d(const Sym2<T>& cov, Vec3<T>& conic) {
   const T inv_det = T(1) / det;
   conic = Vec3<T>(cov.yy * inv_det, -cov.xy * inv_det, cov.xx * inv_det);
   return true;
+}
+
+// Backward of invert_covariance_2d. With Q = Σ'⁻¹, dQ = −Q dΣ' Q. The conic's b stands for
+// both off-diagonal entries of Q, so its cotangent is split over them (H01 = H10 = v_b/2);
+// Σ'01 is likewise one number standing for both entries of Σ', so v_xy sums both.
+template <class T>
+inline Sym2<T> invert_covariance_2d_vjp(const Vec3<T>& conic, const Vec3<T>& v_conic) {
+  const T a = conic.x, b = conic.y, c = conic.z;
+  const T h00 = v_conic.x, h01 = T(0.5) * v_conic.y, h11 = v_conic.z;
+  // Q H Q for symmetric Q = [[a, b], [b, c]] and H = [[h00, h01], [h01, h11]].
+  const T qh00 = a * h00 + b * h01, qh01 = a * h01 + b * h11;
+  const T qh10 = b * h00 + c * h01, qh11 = b * h01 + c * h11;
+  const T m00 = qh00 * a + qh01 * b, m01 = qh00 * b + qh01 * c, m11 = qh10 * b + qh11 * c;
+  return {-m00, T(-2) * m01, -m11};
 }
 
 // Screen radius in pixels: ceil(3·sqrt(λmax)) of Σ', with the reference's floor on the

@@ -5,6 +5,7 @@
 
 #include "splat/core/error.hpp"
 #include "splat/raster/blend.hpp"
+#include "splat/raster/project_backward.hpp"
 
 namespace splat {
 
@@ -39,6 +40,28 @@ void Rasterizer::render(const GaussianModel& model, const Camera& camera,
   start = Clock::now();
   blend_tiles(projected_, bins_, grid_, settings.background, result);
   timings_.blend_ms = ms_since(start);
+}
+
+void Rasterizer::backward(const GaussianModel& model, const Camera& camera,
+                          const RenderSettings& settings, const RenderResult& forward,
+                          const Image& v_color, RasterGradients& grads) {
+  if (v_color.width != camera.width || v_color.height != camera.height || v_color.channels != 3 ||
+      forward.color.width != camera.width || forward.color.height != camera.height)
+    throw ArgumentError("backward: the colour cotangent and the forward result must match the "
+                        "camera's " + std::to_string(camera.width) + "x" +
+                        std::to_string(camera.height) + " image with 3 channels");
+  if (projected_.splats.size() != model.size())
+    throw ArgumentError("backward: the last render was of a different model");
+
+  auto start = Clock::now();
+  blend_tiles_backward(projected_, bins_, grid_, settings.background,
+                       settings.alpha_clamp_gradient, forward, v_color, overlap_grads_);
+  timings_.blend_backward_ms = ms_since(start);
+
+  start = Clock::now();
+  project_gaussians_backward(model, camera, settings.sh_degree, projected_, bins_, overlap_grads_,
+                             grads.params, grads.viewspace_grad_norm);
+  timings_.project_backward_ms = ms_since(start);
 }
 
 }  // namespace splat

@@ -4,6 +4,7 @@
 #include "splat/core/camera.hpp"
 #include "splat/gaussians/gaussian_model.hpp"
 #include "splat/raster/bin_sort.hpp"
+#include "splat/raster/blend_backward.hpp"
 #include "splat/raster/project.hpp"
 #include "splat/raster/render_result.hpp"
 
@@ -12,12 +13,24 @@ namespace splat {
 struct RenderSettings {
   int sh_degree = kMaxShDegree;         // bands used; clamped to the model's degree
   float background[3] = {1, 1, 1};      // composited with the final transmittance
+  // The gradient of α = min(0.99, o·G) where the clamp is active: zero (the exact derivative,
+  // the default), or passed straight through as if unclamped, which is what the official CUDA
+  // rasterizer's backward does (splat-grad uses it to compare with its gradients).
+  AlphaClampGradient alpha_clamp_gradient = AlphaClampGradient::kZero;
 };
 
-// Wall time of each stage of the last render, in milliseconds.
+// Wall time of each stage of the last render (and of the last backward), in milliseconds.
 struct RenderTimings {
   double project_ms = 0, bin_sort_ms = 0, blend_ms = 0;
+  double blend_backward_ms = 0, project_backward_ms = 0;
   double total_ms() const { return project_ms + bin_sort_ms + blend_ms; }
+  double backward_ms() const { return blend_backward_ms + project_backward_ms; }
+};
+
+// Gradients of a loss with respect to the model, from Rasterizer::backward.
+struct RasterGradients {
+  GaussianModel params;                     // ∂L/∂(raw parameters), shaped like the model
+  std::vector<float> viewspace_grad_norm;   // [N] ‖∂L/∂(2D mean)‖ in NDC units (densification)
 };
 
 class Rasterizer {
@@ -26,6 +39,12 @@ class Rasterizer {
   // Throws ArgumentError for an inconsistent model or a camera without pixels.
   void render(const GaussianModel& model, const Camera& camera, const RenderSettings& settings,
               RenderResult& result);
+
+  // Gradients of L with respect to every parameter of `model`, given v_color = ∂L/∂color
+  // ([H, W, 3]) for the image of the last render(), which must have been of this same model,
+  // camera and settings. Bit-identical for any thread count.
+  void backward(const GaussianModel& model, const Camera& camera, const RenderSettings& settings,
+                const RenderResult& forward, const Image& v_color, RasterGradients& grads);
 
   const RenderTimings& last_timings() const { return timings_; }
   // The intermediate state of the last render, which the backward pass reuses.
@@ -38,6 +57,7 @@ class Rasterizer {
   TileBins bins_;
   TileGrid grid_;
   RenderTimings timings_;
+  std::vector<Splat2DGrad> overlap_grads_;  // [M] scratch for the backward pass
 };
 
 // The test oracle: every pixel over every Gaussian in depth order, no tiles, no SIMD, libm

@@ -1,0 +1,166 @@
+#include "splat/raster/blend_backward.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <tbb/parallel_for.h>
+
+#include "splat/composite.hpp"
+#include "splat/core/simd.hpp"
+#include "splat/raster/raster_constants.hpp"
+
+namespace splat {
+
+namespace {
+
+using simd::f32v;
+using simd::i32v;
+using simd::kLanes;
+
+constexpr int kChunksPerRow = kTileSize / kLanes;
+constexpr int kChunksPerTile = kTileSize * kChunksPerRow;
+
+f32v lane_index() {
+  f32v v;
+  for (int i = 0; i < kLanes; ++i) v[i] = float(i);
+  return v;
+}
+
+// Per-pixel inputs and the reverse compositing state of one tile, kLanes pixels a chunk.
+struct TileReverseState {
+  CompositeReverse<f32v> reverse[kChunksPerTile];
+  f32v v_pixel[kChunksPerTile][3];       // ∂L/∂C
+  f32v final_transmittance[kChunksPerTile];
+  f32v background_dot_v[kChunksPerTile];  // bg · ∂L/∂C
+  i32v contributor_count[kChunksPerTile];  // list entries up to the last blended, per pixel
+};
+
+// Gradient sums of one Gaussian over the tile's pixels, lane-wise until the end.
+struct GradAccum {
+  f32v mean_x{}, mean_y{}, conic_a{}, conic_b{}, conic_c{}, opacity{}, color[3]{};
+
+  Splat2DGrad reduce() const {
+    using simd::reduce_add;
+    return {reduce_add(mean_x),   reduce_add(mean_y),   reduce_add(conic_a),
+            reduce_add(conic_b),  reduce_add(conic_c),  reduce_add(opacity),
+            {reduce_add(color[0]), reduce_add(color[1]), reduce_add(color[2])}};
+  }
+};
+
+// Loads the tile's per-pixel forward results and cotangents. Returns the largest
+// contributor count in the tile (how far back the walk starts).
+int load_tile(int x0, int y0, const float background[3], const RenderResult& forward,
+              const Image& v_color, TileReverseState& state) {
+  const int width = forward.color.width, height = forward.color.height;
+  int max_count = 0;
+  for (int chunk = 0; chunk < kChunksPerTile; ++chunk) {
+    const int y = y0 + chunk / kChunksPerRow;
+    const int x_start = x0 + (chunk % kChunksPerRow) * kLanes;
+    f32v final_t{}, v[3] = {}, bg_dot{};
+    i32v count{};
+    for (int lane = 0; lane < kLanes; ++lane) {
+      const int x = x_start + lane;
+      if (x >= width || y >= height) continue;  // outside the image: count 0, never blends
+      const std::size_t p = std::size_t(y) * width + x;
+      final_t[lane] = forward.final_transmittance[p];
+      count[lane] = int(forward.contributor_count[p]);
+      for (int c = 0; c < 3; ++c) {
+        v[c][lane] = v_color.data[3 * p + c];
+        bg_dot[lane] += background[c] * v[c][lane];
+      }
+    }
+    state.reverse[chunk] = CompositeReverse<f32v>::start(final_t);
+    for (int c = 0; c < 3; ++c) state.v_pixel[chunk][c] = v[c];
+    state.final_transmittance[chunk] = final_t;
+    state.background_dot_v[chunk] = bg_dot;
+    state.contributor_count[chunk] = count;
+    max_count = std::max(max_count, simd::reduce_max(count));
+  }
+  return max_count;
+}
+
+void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& projected,
+                         const TileBins& bins, const TileGrid& grid, const float background[3],
+                         bool zero_clamped_alpha_gradient, const RenderResult& forward, const Image& v_color,
+                         std::vector<Splat2DGrad>& overlap_grads) {
+  const int x0 = tile_x * kTileSize, y0 = tile_y * kTileSize;
+  const std::size_t tile = std::size_t(tile_y) * grid.tiles_x + tile_x;
+  const std::uint32_t list_begin = bins.tile_start[tile], list_end = bins.tile_start[tile + 1];
+  if (list_begin == list_end) return;
+  TileReverseState state;
+  const int max_count = load_tile(x0, y0, background, forward, v_color, state);
+  // Entries no pixel reached contribute nothing.
+  std::memset(static_cast<void*>(&overlap_grads[list_begin + max_count]), 0,
+              (list_end - list_begin - max_count) * sizeof(Splat2DGrad));
+  const f32v lane_offsets = lane_index();
+
+  for (int k = max_count - 1; k >= 0; --k) {
+    const std::uint32_t position = list_begin + std::uint32_t(k);
+    if (k >= 4) __builtin_prefetch(&projected.splats[bins.gaussian_ids[position - 4]]);
+    const Splat2D& s = projected.splats[bins.gaussian_ids[position]];
+    GradAccum acc;
+    // The same pixel box as the forward pass (outside it nothing was blended).
+    const int row_lo = std::max(y0, int(std::ceil(s.mean_y - s.extent_y)));
+    const int row_hi = std::min(y0 + kTileSize - 1, int(std::floor(s.mean_y + s.extent_y)));
+    const int col_lo = std::max(x0, int(std::ceil(s.mean_x - s.extent_x)));
+    const int col_hi = std::min(x0 + kTileSize - 1, int(std::floor(s.mean_x + s.extent_x)));
+    if (row_lo <= row_hi && col_lo <= col_hi) {
+      const int chunk_lo = (col_lo - x0) / kLanes, chunk_hi = (col_hi - x0) / kLanes;
+      const f32v opacity = simd::broadcast(s.opacity);
+      const f32v red = simd::broadcast(s.color[0]), green = simd::broadcast(s.color[1]),
+                 blue = simd::broadcast(s.color[2]);
+      for (int y = row_lo; y <= row_hi; ++y) {
+        const float dy = s.mean_y - float(y);
+        const float row_term = s.conic_c * dy * dy;
+        for (int c = chunk_lo; c <= chunk_hi; ++c) {
+          const int chunk = (y - y0) * kChunksPerRow + c;
+          // Lanes whose list reaches entry k (contributor_count counts entries 1-based).
+          const i32v in_list = state.contributor_count[chunk] > k;
+          if (!simd::any(in_list)) continue;
+          const f32v dx = s.mean_x - (lane_offsets + float(x0 + c * kLanes));
+          const f32v power = -0.5f * (s.conic_a * dx * dx + row_term) - s.conic_b * dx * dy;
+          const f32v gaussian = simd::exp_nonpositive(power);
+          const f32v raw_alpha = opacity * gaussian;
+          const f32v alpha = simd::min(simd::broadcast(kMaxAlpha), raw_alpha);
+          const i32v blended = in_list & (power <= 0.0f) & (alpha >= kMinAlpha);
+          if (!simd::any(blended)) continue;
+
+          f32v v_alpha, v_rgb[3];
+          composite_step_vjp(state.reverse[chunk], blended, alpha, red, green, blue,
+                             state.v_pixel[chunk], state.final_transmittance[chunk],
+                             state.background_dot_v[chunk], v_alpha, v_rgb);
+          for (int ch = 0; ch < 3; ++ch) acc.color[ch] += v_rgb[ch];
+          // α = min(kMaxAlpha, o·G): where the clamp holds, α does not depend on o or G
+          // (unless the caller asked for the reference rasterizer's straight-through).
+          if (zero_clamped_alpha_gradient) v_alpha = raw_alpha > kMaxAlpha ? f32v{} : v_alpha;
+          acc.opacity += gaussian * v_alpha;
+          // G = exp(power): ∂G/∂power = G, so v_power = o G v_α.
+          const f32v v_power = raw_alpha * v_alpha;
+          // power = −½(a dx² + c dy²) − b dx dy with dx = mean_x − px, dy = mean_y − py.
+          acc.mean_x -= v_power * (s.conic_a * dx + s.conic_b * dy);
+          acc.mean_y -= v_power * (s.conic_c * dy + s.conic_b * dx);
+          acc.conic_a -= 0.5f * v_power * dx * dx;
+          acc.conic_b -= v_power * dx * dy;
+          acc.conic_c -= (0.5f * dy * dy) * v_power;
+        }
+      }
+    }
+    overlap_grads[position] = acc.reduce();
+  }
+}
+
+}  // namespace
+
+void blend_tiles_backward(const ProjectedGaussians& projected, const TileBins& bins,
+                          const TileGrid& grid, const float background[3],
+                          AlphaClampGradient clamp_gradient, const RenderResult& forward,
+                          const Image& v_color, std::vector<Splat2DGrad>& overlap_grads) {
+  overlap_grads.resize(bins.gaussian_ids.size());
+  tbb::parallel_for(0, grid.count(), [&](int tile) {
+    blend_tile_backward(tile % grid.tiles_x, tile / grid.tiles_x, projected, bins, grid,
+                        background, clamp_gradient == AlphaClampGradient::kZero, forward, v_color,
+                        overlap_grads);
+  });
+}
+
+}  // namespace splat

@@ -1,0 +1,32 @@
+#pragma once
+// Backward of stage 3: per tile, walk each pixel's blended Gaussians back to front through
+// the shared compositor's backward and collect, per Gaussian–tile overlap, the gradient of
+// the loss with respect to the Gaussian's 2D parameters.
+#include <vector>
+
+#include "splat/core/image.hpp"
+#include "splat/raster/bin_sort.hpp"
+#include "splat/raster/project.hpp"
+#include "splat/raster/render_result.hpp"
+
+namespace splat {
+
+enum class AlphaClampGradient { kZero, kStraightThrough };
+
+// ∂L/∂(2D parameters) of one Gaussian, summed over the pixels of one tile.
+struct Splat2DGrad {
+  float mean_x, mean_y;             // pixel coordinates
+  float conic_a, conic_b, conic_c;  // power = −½(a dx² + c dy²) − b dx dy
+  float opacity;                    // the activated opacity o
+  float color[3];
+};
+
+// Writes overlap_grads[p] for every entry p of every tile list (zero where the Gaussian
+// blended nowhere in that tile). Each entry is written by exactly one tile in a fixed order,
+// so the result does not depend on the thread count. `v_color` is ∂L/∂color, [H, W, 3].
+void blend_tiles_backward(const ProjectedGaussians& projected, const TileBins& bins,
+                          const TileGrid& grid, const float background[3],
+                          AlphaClampGradient clamp_gradient, const RenderResult& forward,
+                          const Image& v_color, std::vector<Splat2DGrad>& overlap_grads);
+
+}  // namespace splat

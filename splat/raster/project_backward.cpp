@@ -1,0 +1,112 @@
+#include "splat/raster/project_backward.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <tbb/parallel_for.h>
+
+#include "splat/core/spherical_harmonics.hpp"
+#include "splat/raster/projection_math.hpp"
+
+namespace splat {
+
+void project_gaussians_backward(const GaussianModel& model, const Camera& camera, int sh_degree,
+                                const ProjectedGaussians& projected, const TileBins& bins,
+                                const std::vector<Splat2DGrad>& overlap_grads,
+                                GaussianModel& grads, std::vector<float>& viewspace_grad_norm) {
+  const std::size_t n = model.size();
+  grads.sh_degree = model.sh_degree;
+  grads.resize(n);
+  viewspace_grad_norm.resize(n);
+  const int degree = std::clamp(sh_degree, 0, model.sh_degree);
+  const int coeffs_per_gaussian = model.sh_coefficients() * 3;
+  const glm::vec3 camera_center = camera.center_in_world();
+  const float tan_fov_x = camera.tan_half_fov_x(), tan_fov_y = camera.tan_half_fov_y();
+  const Mat3<float>& world_to_camera = camera.camera_from_world_rotation;
+
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 512), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      float* v_mean_out = &grads.means[3 * i];
+      float* v_log_scale_out = &grads.log_scales[3 * i];
+      float* v_quat_out = &grads.quats[4 * i];
+      float* v_sh_out = &grads.sh[i * coeffs_per_gaussian];
+      std::fill(v_mean_out, v_mean_out + 3, 0.0f);
+      std::fill(v_log_scale_out, v_log_scale_out + 3, 0.0f);
+      std::fill(v_quat_out, v_quat_out + 4, 0.0f);
+      std::fill(v_sh_out, v_sh_out + coeffs_per_gaussian, 0.0f);
+      grads.opacity_logits[i] = 0.0f;
+      viewspace_grad_norm[i] = 0.0f;
+      const std::uint32_t first = bins.overlap_start[i], last = bins.overlap_start[i + 1];
+      if (first == last) continue;
+
+      // Sum over the Gaussian's tiles, in its rectangle's order.
+      Splat2DGrad g{};
+      for (std::uint32_t j = first; j < last; ++j) {
+        const Splat2DGrad& o = overlap_grads[bins.overlap_position[j]];
+        g.mean_x += o.mean_x;
+        g.mean_y += o.mean_y;
+        g.conic_a += o.conic_a;
+        g.conic_b += o.conic_b;
+        g.conic_c += o.conic_c;
+        g.opacity += o.opacity;
+        for (int c = 0; c < 3; ++c) g.color[c] += o.color[c];
+      }
+      viewspace_grad_norm[i] = std::hypot(g.mean_x * 0.5f * float(camera.width),
+                                          g.mean_y * 0.5f * float(camera.height));
+
+      // Recompute the forward quantities (cheaper than storing them for every Gaussian).
+      const glm::vec3 mean(model.means[3 * i], model.means[3 * i + 1], model.means[3 * i + 2]);
+      const glm::vec3 mean_camera = camera.camera_from_world(mean);
+      const glm::vec3 scale(std::exp(model.log_scales[3 * i]), std::exp(model.log_scales[3 * i + 1]),
+                            std::exp(model.log_scales[3 * i + 2]));
+      const glm::vec4 quat(model.quats[4 * i], model.quats[4 * i + 1], model.quats[4 * i + 2],
+                           model.quats[4 * i + 3]);
+      const Mat3<float> rotation = quat_to_rotmat(quat);
+      const Mat3<float> cov3d = covariance_3d(scale, rotation);
+      const Sym2<float> cov2d = covariance_2d(mean_camera, cov3d, world_to_camera, camera.fx,
+                                              camera.fy, tan_fov_x, tan_fov_y);
+      Vec3<float> conic;
+      invert_covariance_2d(cov2d, conic);
+
+      // Opacity: o = sigmoid(logit), do/dlogit = o (1 − o).
+      const float o = projected.splats[i].opacity;
+      grads.opacity_logits[i] = g.opacity * o * (1.0f - o);
+
+      // Colour = max(SH(dir) + 0.5, 0): no gradient in clamped channels.
+      const float* coeffs = &model.sh[i * coeffs_per_gaussian];
+      const glm::vec3 offset = mean - camera_center;
+      const float distance = glm::length(offset);
+      const glm::vec3 dir = offset / distance;
+      const glm::vec3 raw_color = sh_evaluate(degree, coeffs, dir) + 0.5f;
+      glm::vec3 v_color(g.color[0], g.color[1], g.color[2]);
+      for (int c = 0; c < 3; ++c)
+        if (raw_color[c] < 0.0f) v_color[c] = 0.0f;
+      const glm::vec3 v_dir = sh_evaluate_vjp(degree, coeffs, dir, v_color, v_sh_out);
+      // dir = offset/|offset|: v_offset = (v_dir − dir (dir·v_dir)) / |offset|.
+      glm::vec3 v_mean = (v_dir - dir * glm::dot(dir, v_dir)) / distance;
+
+      // Conic → Σ' → (camera-space mean, world covariance).
+      const Sym2<float> v_cov2d = invert_covariance_2d_vjp(conic, Vec3<float>(g.conic_a, g.conic_b, g.conic_c));
+      Vec3<float> v_mean_camera;
+      Mat3<float> v_cov3d;
+      covariance_2d_vjp(mean_camera, cov3d, world_to_camera, camera.fx, camera.fy, tan_fov_x,
+                        tan_fov_y, v_cov2d, v_mean_camera, v_cov3d);
+      v_mean_camera += project_to_pixel_vjp(mean_camera, camera.fx, camera.fy,
+                                            Vec2<float>(g.mean_x, g.mean_y));
+      // mean_camera = W mean + t.
+      v_mean += glm::transpose(world_to_camera) * v_mean_camera;
+
+      // Σ = R S Sᵀ Rᵀ → scale (then log-scale: ds/dlog_s = s) and rotation (then quaternion).
+      Vec3<float> v_scale;
+      Mat3<float> v_rotation;
+      covariance_3d_vjp(scale, rotation, v_cov3d, v_scale, v_rotation);
+      const Vec4<float> v_quat = quat_to_rotmat_vjp(quat, v_rotation);
+      for (int a = 0; a < 3; ++a) {
+        v_mean_out[a] = v_mean[a];
+        v_log_scale_out[a] = v_scale[a] * scale[a];
+      }
+      for (int a = 0; a < 4; ++a) v_quat_out[a] = v_quat[a];
+    }
+  });
+}
+
+}  // namespace splat

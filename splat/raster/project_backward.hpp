@@ -1,0 +1,26 @@
+#pragma once
+// Backward of stage 1: from each Gaussian's 2D-parameter gradients (summed over its tiles)
+// to the gradients of its raw stored parameters.
+#include <vector>
+
+#include "splat/core/camera.hpp"
+#include "splat/gaussians/gaussian_model.hpp"
+#include "splat/raster/bin_sort.hpp"
+#include "splat/raster/blend_backward.hpp"
+#include "splat/raster/project.hpp"
+
+namespace splat {
+
+// Sums each Gaussian's overlap gradients in the fixed order of its tile rectangle, then
+// chains them through the colour (SH and its view direction), the opacity sigmoid, the
+// conic inverse, the EWA covariance Σ' = J W Σ Wᵀ Jᵀ and the pixel projection to means,
+// log-scales, quaternions (through their normalisation), opacity logits and SH coefficients.
+// `grads` is resized like `model` and overwritten. `viewspace_grad_norm[i]` receives the norm
+// of ∂L/∂(2D mean) in normalised device units (pixels × (W/2, H/2)), as the reference
+// trainer accumulates it for densification; 0 for Gaussians that touch no tile.
+void project_gaussians_backward(const GaussianModel& model, const Camera& camera, int sh_degree,
+                                const ProjectedGaussians& projected, const TileBins& bins,
+                                const std::vector<Splat2DGrad>& overlap_grads,
+                                GaussianModel& grads, std::vector<float>& viewspace_grad_norm);
+
+}  // namespace splat
