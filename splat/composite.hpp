@@ -54,8 +54,8 @@ inline M composite_step(CompositeAccum<F>& acc, M contributes, F alpha, F red, F
 }
 
 // Final colour of a channel: the blended sum plus the background seen through what is left.
-template <class F>
-inline F composite_finish(const CompositeAccum<F>& acc, int channel, float background) {
+template <class F, class Scalar>
+inline F composite_finish(const CompositeAccum<F>& acc, int channel, Scalar background) {
   return acc.color[channel] + acc.transmittance * background;
 }
 
