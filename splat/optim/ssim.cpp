@@ -31,7 +31,7 @@ struct Planes {
   T* x = nullptr;         // [C][H, W + 2R] the inputs, de-interleaved
   T* y = nullptr;         // [C][H, W + 2R]
   T* rows = nullptr;      // [5][H + 2R, W] one channel's row-blurred fields
-  T* scalar = nullptr;    // [H, W] one channel's map (forward) or gradient (backward)
+  T* scalar = nullptr;    // [C][H, W] the map (forward) or the gradient (backward)
   T* partials = nullptr;  // [C][3][H, W + 2R] ∂map/∂μx, ∂map/∂(G∗x²), ∂map/∂(G∗xy)
 
   std::size_t padded_cols_plane() const { return std::size_t(height) * padded_width; }
@@ -46,14 +46,16 @@ struct Planes {
     return partials + (std::size_t(c) * kPartials + p) * padded_cols_plane() +
            std::size_t(r) * padded_width;
   }
-  T* scalar_row(int r) const { return scalar + std::size_t(r) * width; }
+  std::size_t plain_plane() const { return std::size_t(height) * width; }
+  T* scalar_row(int c, int r) const { return scalar + c * plain_plane() + std::size_t(r) * width; }
 };
 
 template <typename T>
 std::size_t required_size(SsimShape s, bool with_partials) {
   const std::size_t padded_cols = std::size_t(s.height) * (s.width + 2 * R);
   const std::size_t padded_rows = std::size_t(s.height + 2 * R) * s.width;
-  return 2 * s.channels * padded_cols + kMoments * padded_rows + std::size_t(s.height) * s.width +
+  return 2 * s.channels * padded_cols + kMoments * padded_rows +
+         std::size_t(s.channels) * s.height * s.width +
          (with_partials ? kPartials * s.channels * padded_cols : 0);
 }
 
@@ -75,7 +77,7 @@ Planes<T> carve(SsimShape s, std::vector<T>& buffers, bool with_partials) {
   p.rows = next;
   next += kMoments * p.padded_rows_plane();
   p.scalar = next;
-  next += std::size_t(s.height) * s.width;
+  next += s.channels * p.plain_plane();
   if (with_partials) p.partials = next;
   return p;
 }
@@ -101,20 +103,38 @@ void zero_border_columns(T* padded_row, int width) {
   }
 }
 
+// Channel counts known at compile time let the compiler vectorise the interleaved loads and
+// stores (shuffles instead of gathers); 0 means "read it at run time".
+constexpr int kRuntimeChannels = 0;
+
+// One interleaved row [W, C] into C planes, plane c at planes + c·channel_stride.
+template <typename T, int kChannels>
+void deinterleave(const T* __restrict in, int width, int channels, std::size_t channel_stride,
+                  T* __restrict planes) {
+  const int C = kChannels != kRuntimeChannels ? kChannels : channels;
+  for (int col = 0; col < width; ++col)
+    for (int c = 0; c < C; ++c) planes[c * channel_stride + col] = in[std::size_t(col) * C + c];
+}
+
+// out[col, c] += scale · planes[c][col] for one interleaved row.
+template <typename T, int kChannels>
+void add_interleaved(const T* __restrict planes, std::size_t channel_stride, int width,
+                     int channels, T scale, T* __restrict out) {
+  const int C = kChannels != kRuntimeChannels ? kChannels : channels;
+  for (int col = 0; col < width; ++col)
+    for (int c = 0; c < C; ++c) out[std::size_t(col) * C + c] += scale * planes[c * channel_stride + col];
+}
+
 // Row r of every channel of x and y, from interleaved into the padded planes.
-template <typename T>
+template <typename T, int kChannels>
 void deinterleave_row(const T* x, const T* y, const Planes<T>& p, int r) {
   const int W = p.width, C = p.channels;
+  const std::size_t offset = std::size_t(r) * W * C;
+  deinterleave<T, kChannels>(x + offset, W, C, p.padded_cols_plane(), p.x_row(0, r) + R);
+  deinterleave<T, kChannels>(y + offset, W, C, p.padded_cols_plane(), p.y_row(0, r) + R);
   for (int c = 0; c < C; ++c) {
-    T* __restrict xr = p.x_row(c, r);
-    T* __restrict yr = p.y_row(c, r);
-    zero_border_columns(xr, W);
-    zero_border_columns(yr, W);
-    const std::size_t base = std::size_t(r) * W * C + c;
-    for (int col = 0; col < W; ++col) {
-      xr[R + col] = x[base + std::size_t(col) * C];
-      yr[R + col] = y[base + std::size_t(col) * C];
-    }
+    zero_border_columns(p.x_row(c, r), W);
+    zero_border_columns(p.y_row(c, r), W);
   }
 }
 
@@ -249,7 +269,7 @@ double ssim_map_row(const Planes<T>& p, int c, int r, const std::array<T, kSsimW
       zero_border_columns(row, W);
       d[f] = row + R;
     }
-  T* map = p.scalar_row(r);
+  T* map = p.scalar_row(c, r);
   ssim_map_columns<T, kKeepPartials>(p.blurred_row(0, r - R), p.blurred_row(1, r - R),
                                      p.blurred_row(2, r - R), p.blurred_row(3, r - R),
                                      p.blurred_row(4, r - R), std::size_t(W), W, w, map, d[0],
@@ -278,9 +298,8 @@ void ssim_gradient_columns(const T* __restrict b_mu, const T* __restrict b_xx,
   }
 }
 
-// Image row r of channel c of the backward:
-//   ∂SSIM/∂x = (1/n) [G∗(∂m/∂μx) + 2x·G∗(∂m/∂Exx) + y·G∗(∂m/∂Exy)],
-// scaled by v_ssim (folded into `scale` with 1/n) and added into the interleaved v_x.
+// Image row r of channel c of the backward, into p.scalar: n·∂SSIM/∂x, where
+//   ∂SSIM/∂x = (1/n) [G∗(∂m/∂μx) + 2x·G∗(∂m/∂Exx) + y·G∗(∂m/∂Exy)].
 // Derivation: SSIM = (1/n) Σ_p m(p) with μx(p) = Σ_q G(p − q) x_q, Exx(p) = Σ_q G(p − q) x_q²,
 // Exy(p) = Σ_q G(p − q) x_q y_q, so
 //   ∂SSIM/∂x_q = (1/n) Σ_p G(p − q) [∂m/∂μx(p) + 2 x_q ∂m/∂Exx(p) + y_q ∂m/∂Exy(p)].
@@ -289,16 +308,11 @@ void ssim_gradient_columns(const T* __restrict b_mu, const T* __restrict b_xx,
 // adjoint runs its passes in reverse order, but the row and column passes commute exactly
 // (they act on different axes of a rectangular zero padding), so rows-then-columns is reused.
 template <typename T>
-void ssim_gradient_row(const Planes<T>& p, int c, int r, const std::array<T, kSsimWindow>& w,
-                       T scale, T* v_x) {
-  const int W = p.width, C = p.channels;
-  T* g = p.scalar_row(r);
+void ssim_gradient_row(const Planes<T>& p, int c, int r, const std::array<T, kSsimWindow>& w) {
+  const int W = p.width;
   ssim_gradient_columns(p.blurred_row(0, r - R), p.blurred_row(1, r - R),
                         p.blurred_row(2, r - R), std::size_t(W), W, w, p.x_row(c, r) + R,
-                        p.y_row(c, r) + R, g);
-  // The strided scatter into the interleaved image stays out of the vectorised loop.
-  T* out = v_x + std::size_t(r) * W * C + c;
-  for (int col = 0; col < W; ++col) out[std::size_t(col) * C] += scale * g[col];
+                        p.y_row(c, r) + R, p.scalar_row(c, r));
 }
 
 template <typename T, bool kKeepPartials>
@@ -345,7 +359,11 @@ double ssim_forward(const T* x, const T* y, SsimShape shape, bool keep_for_vjp,
   zero_border_rows(p);
   tbb::parallel_for(tbb::blocked_range<int>(0, shape.height),
                     [&](const tbb::blocked_range<int>& rows) {
-                      for (int r = rows.begin(); r != rows.end(); ++r) deinterleave_row(x, y, p, r);
+                      for (int r = rows.begin(); r != rows.end(); ++r)
+                        if (shape.channels == 3)
+                          deinterleave_row<T, 3>(x, y, p, r);
+                        else
+                          deinterleave_row<T, kRuntimeChannels>(x, y, p, r);
                     });
   double sum = 0;  // channels in order: the reduction's shape is fixed
   for (int c = 0; c < shape.channels; ++c)
@@ -369,10 +387,23 @@ void ssim_vjp(SsimShape shape, T v_ssim, T* v_x, std::vector<T>& buffers) {
                           for (int f = 0; f < kPartials; ++f)
                             blur_along_row(p.partial_row(c, f, r), p.width, w, p.blurred_row(f, r));
                       });
+    // The last channel's pass also adds each finished row of every channel into v_x: the
+    // earlier channels' rows are complete (their passes have returned).
+    const bool last = c == shape.channels - 1;
     tbb::parallel_for(tbb::blocked_range<int>(0, shape.height),
                       [&](const tbb::blocked_range<int>& rows) {
-                        for (int r = rows.begin(); r != rows.end(); ++r)
-                          ssim_gradient_row(p, c, r, w, scale, v_x);
+                        for (int r = rows.begin(); r != rows.end(); ++r) {
+                          ssim_gradient_row(p, c, r, w);
+                          if (!last) continue;
+                          T* out = v_x + std::size_t(r) * shape.width * shape.channels;
+                          if (shape.channels == 3)
+                            add_interleaved<T, 3>(p.scalar_row(0, r), p.plain_plane(), p.width,
+                                                  3, scale, out);
+                          else
+                            add_interleaved<T, kRuntimeChannels>(p.scalar_row(0, r),
+                                                                 p.plain_plane(), p.width,
+                                                                 shape.channels, scale, out);
+                        }
                       });
   }
 }
