@@ -106,8 +106,8 @@ class BinaryFile {
   std::uint64_t size_ = 0, position_ = 0;
 };
 
-std::string record(const char* kind, std::uint64_t index) {
-  return std::string(kind) + " " + std::to_string(index);
+std::string record(const char* kind, std::uint64_t number) {
+  return std::string(kind) + " " + std::to_string(number);
 }
 
 // COLMAP writes ids as signed or unsigned 32-bit depending on the file; both are
@@ -134,9 +134,9 @@ std::vector<ColmapCamera> read_cameras_binary(const fs::path& file) {
   std::vector<ColmapCamera> cameras;
   cameras.reserve(n);
   for (std::uint64_t i = 0; i < n; ++i) {
-    const std::string where = record("camera", i);
     ColmapCamera camera;
-    camera.id = camera_id_from(in, where);
+    camera.id = camera_id_from(in, record("camera record", i));
+    const std::string where = record("camera id", camera.id);
     camera.model = supported_model(file, where, in.read<std::int32_t>("camera model id"));
     camera.width = side_from(in, where, "width");
     camera.height = side_from(in, where, "height");
@@ -155,9 +155,9 @@ std::vector<ColmapImage> read_images_binary(const fs::path& file) {
   std::vector<ColmapImage> images;
   images.reserve(n);
   for (std::uint64_t i = 0; i < n; ++i) {
-    const std::string where = record("image", i);
     ColmapImage image;
     image.id = in.read<std::uint32_t>("image id");
+    const std::string where = record("image id", image.id);
     for (double& q : image.quaternion) q = in.read<double>("quaternion");
     for (double& t : image.translation) t = in.read<double>("translation");
     image.camera_id = in.read<std::uint32_t>("camera id");
@@ -180,10 +180,10 @@ void read_points_binary(const fs::path& file, std::vector<float>& positions,
   positions.reserve(n * 3);
   colors.reserve(n * 3);
   for (std::uint64_t i = 0; i < n; ++i) {
-    (void)in.read<std::uint64_t>("point id");
+    const auto id = in.read<std::uint64_t>("point id");
     double xyz[3];
     for (double& v : xyz) v = in.read<double>("point position");
-    check_point(file, record("point", i), xyz);
+    check_point(file, record("point id", id), xyz);
     for (double v : xyz) positions.push_back(float(v));
     for (int c = 0; c < 3; ++c)
       colors.push_back(float(in.read<std::uint8_t>("point colour")) / 255.0f);
