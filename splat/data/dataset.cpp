@@ -1,0 +1,118 @@
+#include "splat/data/dataset.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <string>
+
+#include <tbb/parallel_for.h>
+
+#include "splat/core/error.hpp"
+#include "splat/data/dataset_loading.hpp"
+#include "splat/data/image_io.hpp"
+#include "splat/data/resample.hpp"
+
+namespace splat {
+namespace dataset_detail {
+
+namespace fs = std::filesystem;
+
+Image read_rgb(const fs::path& file, int width, int height, const std::string& size_source,
+               const float background[3]) {
+  std::error_code ec;
+  if (!fs::exists(file, ec)) throw InputError(file, "image file does not exist");
+  Image image = read_image(file);
+  if (image.width != width || image.height != height)
+    throw InputError(file, "image is " + std::to_string(image.width) + " x " +
+                               std::to_string(image.height) + " but " + size_source +
+                               " gives its camera " + std::to_string(width) + " x " +
+                               std::to_string(height));
+  if (image.channels == 3) return image;
+  if (image.channels != 4)
+    throw InputError(file, "expected an RGB or RGBA image, not " +
+                               std::to_string(image.channels) + " channels");
+  Image rgb(image.width, image.height, 3);
+  for (std::size_t p = 0; p < image.pixel_count(); ++p) {
+    const float* in = &image.data[p * 4];
+    const float alpha = in[3];
+    for (int c = 0; c < 3; ++c)
+      rgb.data[p * 3 + c] = in[c] * alpha + background[c] * (1.0f - alpha);
+  }
+  return rgb;
+}
+
+void downscale_view(DatasetView& view, int downscale, const fs::path& file) {
+  if (downscale == 1) return;
+  const int width = view.image.width / downscale, height = view.image.height / downscale;
+  if (width < 1 || height < 1)
+    throw InputError(file, "image is " + std::to_string(view.image.width) + " x " +
+                               std::to_string(view.image.height) +
+                               ", too small to downscale by " + std::to_string(downscale));
+  view.image = resample_area(view.image, width, height);
+  view.camera = view.camera.resized(width, height);
+}
+
+void for_each_in_parallel(std::size_t count, const std::function<void(std::size_t)>& job) {
+  std::vector<std::exception_ptr> errors(count);
+  tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
+    try {
+      job(i);
+    } catch (...) {
+      errors[i] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& error : errors)
+    if (error) std::rethrow_exception(error);
+}
+
+float scene_extent(const std::vector<DatasetView>& train) {
+  if (train.empty()) return 1.0f;
+  glm::dvec3 mean(0.0);
+  for (const DatasetView& view : train) mean += glm::dvec3(view.camera.center_in_world());
+  mean /= double(train.size());
+  double largest = 0;
+  for (const DatasetView& view : train)
+    largest = std::max(largest, glm::length(glm::dvec3(view.camera.center_in_world()) - mean));
+  // One camera, or all at one spot (a tripod panorama), has no spread to scale by; the
+  // official trainer would divide learning rates down to zero there.
+  if (!(largest > 0)) return 1.0f;
+  return float(1.1 * largest);
+}
+
+}  // namespace dataset_detail
+
+namespace {
+
+namespace fs = std::filesystem;
+
+bool has_cameras_file(const fs::path& dir) {
+  std::error_code ec;
+  return fs::is_regular_file(dir / "cameras.bin", ec) || fs::is_regular_file(dir / "cameras.txt", ec);
+}
+
+}  // namespace
+
+Dataset load_dataset(const fs::path& folder, const DatasetOptions& options) {
+  if (options.downscale < 1)
+    throw ArgumentError("downscale must be 1 or more, not " + std::to_string(options.downscale));
+  std::error_code ec;
+  if (!fs::exists(folder, ec)) throw InputError(folder, "dataset folder does not exist");
+  if (!fs::is_directory(folder, ec)) throw InputError(folder, "is not a folder");
+
+  Dataset dataset;
+  if (fs::exists(folder / "transforms_train.json", ec)) {
+    dataset = dataset_detail::load_blender(folder, options);
+  } else if (fs::is_directory(folder / "sparse" / "0", ec)) {
+    dataset = dataset_detail::load_colmap(folder, folder / "sparse" / "0", options);
+  } else if (has_cameras_file(folder / "sparse")) {
+    dataset = dataset_detail::load_colmap(folder, folder / "sparse", options);
+  } else {
+    throw InputError(folder,
+                     "not a dataset folder: expected transforms_train.json (Blender / "
+                     "NeRF-synthetic) or sparse/0/ with cameras, images and points3D (COLMAP)");
+  }
+  dataset.scene_extent = dataset_detail::scene_extent(dataset.train);
+  return dataset;
+}
+
+}  // namespace splat

@@ -1,0 +1,123 @@
+// COLMAP folders: a sparse model (cameras, images, points3D) and the photos in images/.
+// Poses are world-to-camera in OpenCV axes, the internal convention, and COLMAP puts the
+// centre of the top-left pixel at (0.5, 0.5) as we do, so intrinsics carry over unchanged.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "splat/core/error.hpp"
+#include "splat/data/colmap_model.hpp"
+#include "splat/data/dataset_loading.hpp"
+#include "splat/data/undistort.hpp"
+
+namespace splat::dataset_detail {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Every 8th image in name order is held out for testing (the LLFF / Mip-NeRF 360 habit the
+// official 3DGS evaluation follows).
+constexpr std::size_t kTestEvery = 8;
+
+// Rotation matrix of the unit quaternion (w, x, y, z); COLMAP normalises before use too.
+glm::mat3 rotation_from_quaternion(const std::array<double, 4>& q) {
+  const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  const double w = q[0] / n, x = q[1] / n, y = q[2] / n, z = q[3] / n;
+  const double rows[3][3] = {
+      {1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
+      {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
+      {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)},
+  };
+  glm::mat3 r;  // glm is column-major: r[col][row]
+  for (int row = 0; row < 3; ++row)
+    for (int col = 0; col < 3; ++col) r[col][row] = float(rows[row][col]);
+  return r;
+}
+
+// The pinhole part of a COLMAP camera and its lens distortion.
+struct Intrinsics {
+  Camera camera;  // intrinsics only
+  LensDistortion distortion;
+};
+
+Intrinsics intrinsics_of(const ColmapCamera& c) {
+  const std::vector<double>& p = c.params;
+  Intrinsics out;
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  switch (c.model) {
+    case ColmapCameraModel::kSimplePinhole:
+      fx = fy = p[0], cx = p[1], cy = p[2];
+      break;
+    case ColmapCameraModel::kPinhole:
+      fx = p[0], fy = p[1], cx = p[2], cy = p[3];
+      break;
+    case ColmapCameraModel::kSimpleRadial:
+      fx = fy = p[0], cx = p[1], cy = p[2];
+      out.distortion.k1 = p[3];
+      break;
+    case ColmapCameraModel::kRadial:
+      fx = fy = p[0], cx = p[1], cy = p[2];
+      out.distortion.k1 = p[3], out.distortion.k2 = p[4];
+      break;
+    case ColmapCameraModel::kOpenCv:
+      fx = p[0], fy = p[1], cx = p[2], cy = p[3];
+      out.distortion = {p[4], p[5], p[6], p[7]};
+      break;
+  }
+  out.camera.fx = float(fx), out.camera.fy = float(fy);
+  out.camera.cx = float(cx), out.camera.cy = float(cy);
+  out.camera.width = c.width, out.camera.height = c.height;
+  return out;
+}
+
+}  // namespace
+
+Dataset load_colmap(const fs::path& folder, const fs::path& sparse_dir,
+                    const DatasetOptions& options) {
+  ColmapModel model = read_colmap_model(sparse_dir);
+  const fs::path image_dir = folder / "images";
+
+  // Name order decides the split, whatever order the model file lists the images in.
+  std::vector<const ColmapImage*> images;
+  for (const ColmapImage& image : model.images) images.push_back(&image);
+  std::sort(images.begin(), images.end(),
+            [](const ColmapImage* a, const ColmapImage* b) { return a->name < b->name; });
+
+  std::vector<DatasetView> views(images.size());
+  for_each_in_parallel(images.size(), [&](std::size_t i) {
+    const ColmapImage& image = *images[i];
+    const Intrinsics intrinsics = intrinsics_of(*model.find_camera(image.camera_id));
+    DatasetView& view = views[i];
+    view.name = fs::path(image.name).stem().string();
+    view.camera = intrinsics.camera;
+    view.camera.camera_from_world_rotation = rotation_from_quaternion(image.quaternion);
+    view.camera.camera_from_world_translation =
+        glm::vec3(float(image.translation[0]), float(image.translation[1]),
+                  float(image.translation[2]));
+    const fs::path file = image_dir / image.name;
+    view.image = read_rgb(file, view.camera.width, view.camera.height,
+                          model.cameras_file.string() + " (camera " +
+                              std::to_string(image.camera_id) + ")",
+                          options.background);
+    if (!intrinsics.distortion.is_identity())
+      view.image = undistort_image(view.image, view.camera, intrinsics.distortion,
+                                   options.background);
+    downscale_view(view, options.downscale, file);
+  });
+
+  Dataset dataset;
+  for (std::size_t i = 0; i < views.size(); ++i)
+    (i % kTestEvery == 0 ? dataset.test : dataset.train).push_back(std::move(views[i]));
+  if (dataset.train.empty())
+    throw InputError(model.images_file,
+                     "only " + std::to_string(views.size()) +
+                         " image(s): with every 8th held out for testing none is left to train on");
+  dataset.points = PointCloud{std::move(model.point_positions), std::move(model.point_colors)};
+  return dataset;
+}
+
+}  // namespace splat::dataset_detail

@@ -1,0 +1,38 @@
+#pragma once
+// Internal to load_dataset: the two folder kinds (dataset_blender.cpp, dataset_colmap.cpp)
+// and the steps they share (dataset.cpp).
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "splat/core/camera.hpp"
+#include "splat/core/image.hpp"
+#include "splat/data/dataset.hpp"
+
+namespace splat::dataset_detail {
+
+Dataset load_blender(const std::filesystem::path& folder, const DatasetOptions& options);
+Dataset load_colmap(const std::filesystem::path& folder, const std::filesystem::path& sparse_dir,
+                    const DatasetOptions& options);
+
+// Reads `file` as three channels: RGB as stored, RGBA composited onto `background` with
+// straight alpha (rgb·a + bg·(1 − a)). InputError naming the file when it is missing,
+// unreadable, has another channel count, or is not `width` x `height`; `size_source` says
+// where that size comes from ("the camera in transforms_train.json").
+Image read_rgb(const std::filesystem::path& file, int width, int height,
+               const std::string& size_source, const float background[3]);
+
+// The view at 1/downscale of its size (floor), area-filtered, intrinsics scaled. InputError
+// naming `file` when the image is too small for the factor.
+void downscale_view(DatasetView& view, int downscale, const std::filesystem::path& file);
+
+// Runs job(i) for every i in [0, count) in parallel. If any fail, rethrows the exception of
+// the smallest failing i, so the error reported does not depend on thread timing.
+void for_each_in_parallel(std::size_t count, const std::function<void(std::size_t)>& job);
+
+// 1.1 × the largest distance of a camera centre from their mean (getNerfppNorm).
+float scene_extent(const std::vector<DatasetView>& train);
+
+}  // namespace splat::dataset_detail
