@@ -4,6 +4,7 @@
 //   scale = exp(log_scale), opacity = sigmoid(opacity_logit), rotation = normalize(quat),
 //   colour = SH(dir) + 0.5 clamped at 0.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace splat {
@@ -27,6 +28,25 @@ struct GaussianModel {
   void resize(std::size_t n);
   // Throws ArgumentError if the arrays disagree in length or the degree is out of range.
   void check_consistent() const;
+
+  // Row operations. Gradients and Adam moments share this shape, so density control applies
+  // the same operation to parameters and optimiser state and the rows stay aligned.
+
+  // Keeps the rows whose flag is non-zero, in their order. `keep` has one flag per row.
+  void keep_rows(const std::vector<std::uint8_t>& keep);
+  // Appends the rows of `other` after the existing ones. Throws ArgumentError unless
+  // `other` has the same SH degree.
+  void append_rows(const GaussianModel& other);
+  // Appends `count` rows of zeros (fresh Adam moments for new Gaussians).
+  void append_zero_rows(std::size_t count);
+  // A new model holding the listed rows in the listed order (repeats allowed), same degree.
+  GaussianModel gather_rows(const std::vector<std::size_t>& rows) const;
+  // Copies row `source_row` of `source` (same degree) over row `row` of this model.
+  void copy_row(std::size_t row, const GaussianModel& source, std::size_t source_row);
+  // Every value zero, size and degree kept.
+  void set_zero();
+  // Floats per row across all arrays: 3 + 3 + 4 + 1 + 3·K (59 at degree 3).
+  std::size_t floats_per_row() const { return 11 + std::size_t(sh_coefficients()) * 3; }
 };
 
 }  // namespace splat

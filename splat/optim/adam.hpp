@@ -4,12 +4,20 @@
 // shared by all Gaussians, every Gaussian updated every step even when its gradient is zero).
 // The moments are stored as GaussianModel-shaped arrays so clone, split and prune apply the
 // same row operations to parameters and optimiser state alike.
+//
+// Per element, with t the step count after incrementing, in float as PyTorch does on the
+// GPU (the bias corrections in double, as Python computes them):
+//   m ← m + (1 − β1)(g − m)            (= β1·m + (1 − β1)·g; PyTorch ≥ 2 writes it as a lerp)
+//   v ← β2·v + (1 − β2)·g·g
+//   p ← p − lr/(1 − β1ᵗ) · m / (sqrt(v)/sqrt(1 − β2ᵗ) + ε)
 #include "splat/gaussians/gaussian_model.hpp"
 
 namespace splat {
 
+// Double, as PyTorch takes them from Python: 1 − β and the bias corrections are formed in
+// double and only then rounded to float (1 − 0.999f in float would be off by 1.3e-5).
 struct AdamSettings {
-  float beta1 = 0.9f, beta2 = 0.999f, epsilon = 1e-15f;
+  double beta1 = 0.9, beta2 = 0.999, epsilon = 1e-15;
 };
 
 // Learning rates for one step, per parameter group.
@@ -22,18 +30,35 @@ struct GroupLearningRates {
   float rotations = 1e-3f;
 };
 
+// Which groups a step touches. PyTorch skips a parameter without a gradient, moments and all;
+// the official trainer hits that when a tensor was just replaced: every group after
+// densification (the caller skips the whole step then) and only the opacity group after an
+// opacity reset without densification (white background at densify_from_iter). A skipped
+// group's elements keep their parameters and moments.
+struct AdamGroupMask {
+  bool means = true, sh_dc = true, sh_rest = true, opacity = true, scales = true,
+       rotations = true;
+};
+
 struct AdamState {
   GaussianModel first_moment;   // m, same shape as the model
   GaussianModel second_moment;  // v
-  int step = 0;                 // steps taken (bias correction)
+  // Steps taken (bias correction), shared by every group. PyTorch keeps one count per group;
+  // they differ only when a group is skipped (AdamGroupMask), which the official trainer does
+  // at most once, at iteration 500, where 0.9⁵⁰⁰ makes the difference vanish in float.
+  int step = 0;
 
   // Zero moments shaped like `model` (step count kept).
   void reset_like(const GaussianModel& model);
 };
 
-// One Adam step: params −= lr · m̂ / (sqrt(v̂) + ε). `grads` has the model's shape. Parallel
-// over Gaussians; the result does not depend on the thread count.
+// One Adam step: increments state.step, then updates every element of the active groups.
+// `grads` and both moments must have the model's shape (reset_like creates the moments);
+// otherwise ArgumentError. Parallel over Gaussians in fixed-size chunks; every element is
+// computed independently with the same instructions, so the result is bit-identical for any
+// thread count.
 void adam_step(GaussianModel& params, const GaussianModel& grads, AdamState& state,
-               const GroupLearningRates& lr, const AdamSettings& settings = {});
+               const GroupLearningRates& lr, const AdamSettings& settings = {},
+               const AdamGroupMask& active = {});
 
 }  // namespace splat

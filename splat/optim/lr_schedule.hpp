@@ -1,0 +1,25 @@
+#pragma once
+// Learning-rate schedules of the official trainer.
+namespace splat {
+
+// The official get_expon_lr_func without the delay phase (lr_delay_steps 0, its setting for
+// every group it schedules): a log-linear decay from lr_init to lr_final over max_steps
+// steps, constant at lr_final after that and 0 for negative steps.
+//   t = clamp(step / max_steps, 0, 1);  lr = exp((1 − t)·ln(lr_init) + t·ln(lr_final))
+struct ExponentialLrSchedule {
+  double lr_init = 0;
+  double lr_final = 0;
+  int max_steps = 1;
+
+  double operator()(int step) const;
+};
+
+// Position learning rate, scaled by the scene extent (spatial_lr_scale): 1.6e-4·extent
+// decaying to 1.6e-6·extent over 30000 steps. The official trainer evaluates it at the
+// iteration number (counting from 1) before each step.
+constexpr double kPositionLrInit = 1.6e-4;
+constexpr double kPositionLrFinal = 1.6e-6;
+constexpr int kPositionLrMaxSteps = 30000;
+ExponentialLrSchedule position_lr_schedule(float scene_extent);
+
+}  // namespace splat

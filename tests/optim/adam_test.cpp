@@ -1,0 +1,215 @@
+#include "splat/optim/adam.hpp"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "splat/core/error.hpp"
+#include "splat/optim/lr_schedule.hpp"
+#include "test_support.hpp"
+
+namespace splat {
+namespace {
+
+// Group learning rates far apart, so an element stepped with the wrong group's rate shows.
+GroupLearningRates distinct_rates() {
+  GroupLearningRates lr;
+  lr.means = 0.01f;
+  lr.sh_dc = 0.02f;
+  lr.sh_rest = 0.003f;
+  lr.opacity = 0.05f;
+  lr.scales = 0.007f;
+  lr.rotations = 0.001f;
+  return lr;
+}
+
+// One element of the optimiser, in double, straight from the formulas.
+struct ReferenceAdam {
+  double p, m = 0, v = 0;
+  void step(double g, double lr, int t) {
+    const double b1 = 0.9, b2 = 0.999, eps = 1e-15;
+    m = b1 * m + (1 - b1) * g;
+    v = b2 * v + (1 - b2) * g * g;
+    p -= lr / (1 - std::pow(b1, t)) * m / (std::sqrt(v) / std::sqrt(1 - std::pow(b2, t)) + eps);
+  }
+};
+
+// The model's elements, each with the learning rate of its group, in one flat list.
+struct Element {
+  float* param;
+  float* grad;
+  float* m;
+  float* v;
+  float lr;
+};
+
+std::vector<Element> elements(GaussianModel& p, GaussianModel& g, AdamState& s,
+                              const GroupLearningRates& lr) {
+  std::vector<Element> out;
+  auto add = [&](std::vector<float>& pa, std::vector<float>& ga, std::vector<float>& ma,
+                 std::vector<float>& va, std::size_t i, float rate) {
+    out.push_back({&pa[i], &ga[i], &ma[i], &va[i], rate});
+  };
+  GaussianModel &m = s.first_moment, &v = s.second_moment;
+  for (std::size_t i = 0; i < p.means.size(); ++i) add(p.means, g.means, m.means, v.means, i, lr.means);
+  for (std::size_t i = 0; i < p.log_scales.size(); ++i)
+    add(p.log_scales, g.log_scales, m.log_scales, v.log_scales, i, lr.scales);
+  for (std::size_t i = 0; i < p.quats.size(); ++i) add(p.quats, g.quats, m.quats, v.quats, i, lr.rotations);
+  for (std::size_t i = 0; i < p.opacity_logits.size(); ++i)
+    add(p.opacity_logits, g.opacity_logits, m.opacity_logits, v.opacity_logits, i, lr.opacity);
+  const std::size_t row = std::size_t(p.sh_coefficients()) * 3;
+  for (std::size_t i = 0; i < p.sh.size(); ++i)
+    add(p.sh, g.sh, m.sh, v.sh, i, i % row < 3 ? lr.sh_dc : lr.sh_rest);
+  return out;
+}
+
+TEST(Adam, MatchesHandComputedStepsPerGroup) {
+  GaussianModel params = test::random_model(1, 1, 3);
+  GaussianModel grads = params;
+  AdamState state;
+  state.reset_like(params);
+  const GroupLearningRates lr = distinct_rates();
+  std::vector<Element> el = elements(params, grads, state, lr);
+  ASSERT_EQ(el.size(), 23u);  // 3 + 3 + 4 + 1 + 4·3
+
+  std::vector<ReferenceAdam> ref;
+  for (const Element& e : el) ref.push_back({*e.param});
+  std::mt19937 rng(4);
+  std::normal_distribution<float> normal(0.0f, 0.5f);
+  for (int t = 1; t <= 4; ++t) {
+    for (std::size_t i = 0; i < el.size(); ++i) {
+      *el[i].grad = normal(rng);
+      ref[i].step(*el[i].grad, el[i].lr, t);
+    }
+    adam_step(params, grads, state, lr);
+    EXPECT_EQ(state.step, t);
+    for (std::size_t i = 0; i < el.size(); ++i) {
+      SCOPED_TRACE(testing::Message() << "element " << i << " step " << t);
+      EXPECT_NEAR(*el[i].param, ref[i].p, 1e-6 + 1e-6 * std::abs(ref[i].p));
+      EXPECT_NEAR(*el[i].m, ref[i].m, 1e-6 * std::abs(ref[i].m) + 1e-12);
+      EXPECT_NEAR(*el[i].v, ref[i].v, 1e-6 * std::abs(ref[i].v) + 1e-15);
+    }
+  }
+}
+
+TEST(Adam, FirstStepMovesEachElementByItsGroupRate) {
+  // After one step m̂/sqrt(v̂) = sign(g): the displacement is the group's learning rate, so
+  // DC (k = 0) and the higher bands must move by different amounts.
+  GaussianModel params = test::random_model(1, 3, 7);
+  const GaussianModel before = params;
+  GaussianModel grads = params;
+  grads.set_zero();
+  for (float& g : grads.sh) g = -1.0f;
+  grads.opacity_logits[0] = 2.0f;
+  AdamState state;
+  state.reset_like(params);
+  const GroupLearningRates lr = distinct_rates();
+  adam_step(params, grads, state, lr);
+  for (std::size_t i = 0; i < params.sh.size(); ++i) {
+    const float expected = i < 3 ? lr.sh_dc : lr.sh_rest;
+    EXPECT_NEAR(params.sh[i] - before.sh[i], expected, 1e-6) << "SH float " << i;
+  }
+  EXPECT_NEAR(params.opacity_logits[0] - before.opacity_logits[0], -lr.opacity, 1e-6);
+}
+
+TEST(Adam, ZeroGradientStillMovesByMomentum) {
+  GaussianModel params = test::random_model(1, 0, 9);
+  GaussianModel grads = params;
+  AdamState state;
+  state.reset_like(params);
+  const GroupLearningRates lr = distinct_rates();
+  ReferenceAdam ref{params.means[0]};
+  grads.means[0] = 0.3f;
+  ref.step(0.3, lr.means, 1);
+  adam_step(params, grads, state, lr);
+  grads.set_zero();
+  const float before = params.means[0];
+  ref.step(0.0, lr.means, 2);
+  adam_step(params, grads, state, lr);
+  EXPECT_LT(params.means[0], before);  // keeps going the way the earlier gradient pushed
+  EXPECT_NEAR(params.means[0], ref.p, 1e-6);
+}
+
+TEST(Adam, MaskedGroupKeepsParametersAndMoments) {
+  GaussianModel params = test::random_model(3, 1, 10);
+  GaussianModel grads = test::random_model(3, 1, 11);
+  AdamState state;
+  state.reset_like(params);
+  adam_step(params, grads, state, distinct_rates());
+  const GaussianModel before = params;
+  const AdamState state_before = state;
+  AdamGroupMask mask;
+  mask.opacity = false;
+  adam_step(params, grads, state, distinct_rates(), {}, mask);
+  EXPECT_EQ(params.opacity_logits, before.opacity_logits);
+  EXPECT_EQ(state.first_moment.opacity_logits, state_before.first_moment.opacity_logits);
+  EXPECT_EQ(state.second_moment.opacity_logits, state_before.second_moment.opacity_logits);
+  EXPECT_NE(params.means, before.means);
+  EXPECT_EQ(state.step, 2);
+}
+
+TEST(Adam, RejectsMismatchedShapes) {
+  GaussianModel params = test::random_model(3, 1, 1);
+  AdamState state;
+  state.reset_like(params);
+  EXPECT_THROW(adam_step(params, test::random_model(2, 1, 2), state, {}), ArgumentError);
+  EXPECT_THROW(adam_step(params, test::random_model(3, 2, 2), state, {}), ArgumentError);
+  AdamState empty;
+  EXPECT_THROW(adam_step(params, params, empty, {}), ArgumentError);
+  EXPECT_EQ(state.step, 0);
+}
+
+TEST(Adam, ResetLikeZeroesMomentsAndKeepsStep) {
+  GaussianModel params = test::random_model(4, 2, 1);
+  AdamState state;
+  state.reset_like(params);
+  adam_step(params, test::random_model(4, 2, 5), state, {});
+  state.reset_like(test::random_model(6, 2, 3));
+  EXPECT_EQ(state.step, 1);
+  ASSERT_EQ(state.first_moment.size(), 6u);
+  for (float x : state.first_moment.sh) EXPECT_EQ(x, 0.0f);
+  for (float x : state.second_moment.means) EXPECT_EQ(x, 0.0f);
+}
+
+TEST(Adam, BitIdenticalForAnyThreadCount) {
+  const GaussianModel start = test::random_model(20000, 3, 21);
+  const GaussianModel grads = test::random_model(20000, 3, 22);
+  auto run = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    GaussianModel params = start;
+    AdamState state;
+    state.reset_like(params);
+    for (int i = 0; i < 3; ++i) adam_step(params, grads, state, distinct_rates());
+    return std::pair{params, state};
+  };
+  const auto [p1, s1] = run(1);
+  const auto [p4, s4] = run(4);
+  EXPECT_EQ(p1.means, p4.means);
+  EXPECT_EQ(p1.log_scales, p4.log_scales);
+  EXPECT_EQ(p1.quats, p4.quats);
+  EXPECT_EQ(p1.opacity_logits, p4.opacity_logits);
+  EXPECT_EQ(p1.sh, p4.sh);
+  EXPECT_EQ(s1.first_moment.sh, s4.first_moment.sh);
+  EXPECT_EQ(s1.second_moment.sh, s4.second_moment.sh);
+  EXPECT_NE(p1.sh, start.sh);
+}
+
+TEST(LrSchedule, PositionScheduleDecaysLogLinearly) {
+  const float extent = 2.5f;
+  const ExponentialLrSchedule lr = position_lr_schedule(extent);
+  const double init = 1.6e-4 * extent, final_lr = 1.6e-6 * extent;
+  EXPECT_NEAR(lr(0), init, 1e-12 * init);
+  EXPECT_NEAR(lr(15000), std::sqrt(init * final_lr), 1e-12 * init);  // halfway in log space
+  EXPECT_NEAR(lr(30000), final_lr, 1e-12 * final_lr);
+  EXPECT_NEAR(lr(40000), final_lr, 1e-12 * final_lr);  // clamped after max_steps
+  EXPECT_NEAR(lr(7500), std::exp(0.75 * std::log(init) + 0.25 * std::log(final_lr)),
+              1e-12 * init);
+  EXPECT_EQ(lr(-1), 0.0);
+  EXPECT_EQ((ExponentialLrSchedule{0.0, 0.0, 100})(5), 0.0);
+}
+
+}  // namespace
+}  // namespace splat
