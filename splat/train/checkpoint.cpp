@@ -1,0 +1,146 @@
+// SplatTrainer checkpoints: a small binary container.
+//   "SPLATCKP" | uint32 version | uint64 header bytes | header JSON | arrays
+// Each array: uint64 element count, then that many little-endian float32. The arrays are the
+// model's five parameter arrays, then Adam's first and second moments (five each), then the
+// densification statistics (three).
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "splat/core/atomic_file.hpp"
+#include "splat/train/splat_trainer.hpp"
+
+namespace splat {
+
+namespace {
+
+constexpr char kMagic[8] = {'S', 'P', 'L', 'A', 'T', 'C', 'K', 'P'};
+constexpr std::uint32_t kVersion = 1;
+constexpr std::uint64_t kMaxHeaderBytes = 1 << 24;
+
+std::vector<std::vector<float>*> model_arrays(GaussianModel& m) {
+  return {&m.means, &m.log_scales, &m.quats, &m.opacity_logits, &m.sh};
+}
+std::vector<const std::vector<float>*> model_arrays(const GaussianModel& m) {
+  return {&m.means, &m.log_scales, &m.quats, &m.opacity_logits, &m.sh};
+}
+
+void write_array(std::ostream& out, const std::vector<float>& a) {
+  const std::uint64_t n = a.size();
+  out.write(reinterpret_cast<const char*>(&n), sizeof(n));
+  out.write(reinterpret_cast<const char*>(a.data()), std::streamsize(n * sizeof(float)));
+}
+
+void read_array(std::istream& in, std::vector<float>& a, std::uint64_t remaining_bytes,
+                const std::filesystem::path& file) {
+  std::uint64_t n = 0;
+  if (!in.read(reinterpret_cast<char*>(&n), sizeof(n)))
+    throw InputError(file, "checkpoint is truncated (array header)");
+  if (n > remaining_bytes / sizeof(float))
+    throw InputError(file, "checkpoint is truncated or corrupt (array larger than the file)");
+  a.resize(n);
+  if (!in.read(reinterpret_cast<char*>(a.data()), std::streamsize(n * sizeof(float))))
+    throw InputError(file, "checkpoint is truncated (array data)");
+}
+
+}  // namespace
+
+void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
+  nlohmann::json header;
+  header["config"] = to_json(config_);
+  header["iteration"] = iteration_;
+  header["active_sh_degree"] = active_sh_degree_;
+  header["sh_degree"] = model_.sh_degree;
+  header["adam_step"] = adam_.step;
+  header["view_stack"] = view_stack_;
+  header["train_views"] = dataset_.train.size();
+  std::ostringstream rng_state;
+  rng_state << rng_;
+  header["rng"] = rng_state.str();
+  const std::string text = header.dump();
+
+  write_atomically(file, [&](const std::filesystem::path& temp) {
+    std::ofstream out(temp, std::ios::binary);
+    out.write(kMagic, sizeof(kMagic));
+    out.write(reinterpret_cast<const char*>(&kVersion), sizeof(kVersion));
+    const std::uint64_t size = text.size();
+    out.write(reinterpret_cast<const char*>(&size), sizeof(size));
+    out.write(text.data(), std::streamsize(size));
+    for (const GaussianModel* g : {&model_, &adam_.first_moment, &adam_.second_moment})
+      for (const std::vector<float>* a : model_arrays(*g)) write_array(out, *a);
+    const DensificationStats& s = density_.stats();
+    for (const std::vector<float>* a : {&s.grad_accum, &s.denom, &s.max_radii}) write_array(out, *a);
+    if (!out) throw InputError(file, "cannot write the checkpoint");
+  });
+}
+
+void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
+  std::error_code ec;
+  const std::uint64_t file_size = std::filesystem::file_size(file, ec);
+  if (ec) throw InputError(file, "cannot open the checkpoint: " + ec.message());
+  std::ifstream in(file, std::ios::binary);
+  char magic[8];
+  std::uint32_t version = 0;
+  std::uint64_t header_size = 0;
+  if (!in.read(magic, sizeof(magic)) || std::memcmp(magic, kMagic, sizeof(kMagic)) != 0)
+    throw InputError(file, "not a splat-train checkpoint (wrong magic)");
+  if (!in.read(reinterpret_cast<char*>(&version), sizeof(version)) || version != kVersion)
+    throw InputError(file, "checkpoint version " + std::to_string(version) + " is not " +
+                               std::to_string(kVersion));
+  if (!in.read(reinterpret_cast<char*>(&header_size), sizeof(header_size)) ||
+      header_size > kMaxHeaderBytes || header_size > file_size)
+    throw InputError(file, "checkpoint header is corrupt");
+  std::string text(header_size, '\0');
+  if (!in.read(text.data(), std::streamsize(header_size)))
+    throw InputError(file, "checkpoint is truncated (header)");
+  nlohmann::json header;
+  try {
+    header = nlohmann::json::parse(text);
+    SplatTrainingConfig config = config_;
+    from_json(header.at("config"), config);
+    if (header.at("train_views").get<std::size_t>() != dataset_.train.size())
+      throw InputError(file, "checkpoint was written for " +
+                                 std::to_string(header.at("train_views").get<std::size_t>()) +
+                                 " training views, this dataset has " +
+                                 std::to_string(dataset_.train.size()));
+    // Keep the limits the user asked for now (they may extend the run); the rest resumes.
+    config.iterations = config_.iterations;
+    config.max_seconds = config_.max_seconds;
+    config_ = config;
+    iteration_ = header.at("iteration").get<int>();
+    active_sh_degree_ = header.at("active_sh_degree").get<int>();
+    model_.sh_degree = adam_.first_moment.sh_degree = adam_.second_moment.sh_degree =
+        header.at("sh_degree").get<int>();
+    adam_.step = header.at("adam_step").get<int>();
+    view_stack_ = header.at("view_stack").get<std::vector<std::size_t>>();
+    std::istringstream rng_state(header.at("rng").get<std::string>());
+    rng_state >> rng_;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(file, std::string("checkpoint header is malformed: ") + e.what());
+  } catch (const ArgumentError& e) {
+    throw InputError(file, e.what());
+  }
+  for (std::size_t v : view_stack_)
+    if (v >= dataset_.train.size()) throw InputError(file, "checkpoint view order is corrupt");
+
+  const std::uint64_t remaining = file_size - std::uint64_t(in.tellg());
+  for (GaussianModel* g : {&model_, &adam_.first_moment, &adam_.second_moment})
+    for (std::vector<float>* a : model_arrays(*g)) read_array(in, *a, remaining, file);
+  DensificationStats s;
+  for (std::vector<float>* a : {&s.grad_accum, &s.denom, &s.max_radii}) read_array(in, *a, remaining, file);
+  try {
+    model_.check_consistent();
+    adam_.first_moment.check_consistent();
+    adam_.second_moment.check_consistent();
+  } catch (const ArgumentError& e) {
+    throw InputError(file, std::string("checkpoint arrays are inconsistent: ") + e.what());
+  }
+  if (adam_.first_moment.size() != model_.size() || adam_.second_moment.size() != model_.size() ||
+      s.size() != model_.size() || s.grad_accum.size() != s.size() || s.max_radii.size() != s.size())
+    throw InputError(file, "checkpoint arrays disagree in length");
+  density_ = DensityControl(config_.density, model_.size());
+  density_.stats() = s;
+  last_good_model_ = model_;
+}
+
+}  // namespace splat

@@ -1,0 +1,189 @@
+#include "splat/train/splat_trainer.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include "splat/eval/metrics.hpp"
+#include "splat/gaussians/initialization.hpp"
+#include "splat/optim/lr_schedule.hpp"
+
+namespace splat {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Keeps the parameters this often (iterations) once they are checked finite, so a diverged
+// run can still hand back a good model.
+constexpr int kLastGoodInterval = 100;
+
+// True if every value is finite. A sum is non-finite as soon as one term is (or overflows,
+// which is as much a divergence), so one parallel reduction checks a whole group.
+bool all_finite(const std::vector<float>& values) {
+  const double sum = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, values.size(), 1 << 16), 0.0,
+      [&](const tbb::blocked_range<std::size_t>& r, double acc) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) acc += values[i];
+        return acc;
+      },
+      [](double a, double b) { return a + b; });
+  return std::isfinite(sum);
+}
+
+GaussianModel initial_model(const Dataset& dataset, const SplatTrainingConfig& config) {
+  if (dataset.points && dataset.points->size() > 0)
+    return initialize_from_points(*dataset.points, config.sh_degree);
+  return initialize_random(config.random_init_points, config.random_init_half_extent, config.seed,
+                           config.sh_degree);
+}
+
+Image clamped(const Image& image) {
+  Image out = image;
+  for (float& v : out.data) v = std::clamp(v, 0.0f, 1.0f);
+  return out;
+}
+
+}  // namespace
+
+SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& config)
+    : dataset_(dataset),
+      config_(config),
+      scene_extent_(dataset.scene_extent),
+      model_(initial_model(dataset, config)),
+      density_(config.density, model_.size()),
+      rng_(config.seed) {
+  if (dataset.train.empty()) throw ArgumentError("training needs at least one training view");
+  config_.density.white_background =
+      config.background[0] == 1.0f && config.background[1] == 1.0f && config.background[2] == 1.0f;
+  density_ = DensityControl(config_.density, model_.size());
+  adam_.reset_like(model_);
+  last_good_model_ = model_;
+}
+
+const DatasetView& SplatTrainer::next_view() {
+  // As the official trainer: a random permutation of the training views, consumed one per
+  // iteration and refilled when empty.
+  if (view_stack_.empty())
+    for (std::size_t i = 0; i < dataset_.train.size(); ++i) view_stack_.push_back(i);
+  std::uniform_int_distribution<std::size_t> pick(0, view_stack_.size() - 1);
+  const std::size_t slot = pick(rng_);
+  const std::size_t view = view_stack_[slot];
+  view_stack_.erase(view_stack_.begin() + std::ptrdiff_t(slot));
+  return dataset_.train[view];
+}
+
+GroupLearningRates SplatTrainer::learning_rates() const {
+  ExponentialLrSchedule position{config_.position_lr_init * scene_extent_,
+                                 config_.position_lr_final * scene_extent_,
+                                 config_.position_lr_max_steps};
+  GroupLearningRates lr;
+  lr.means = float(position(iteration_ + 1));  // the official evaluates it at the 1-based iteration
+  lr.sh_dc = config_.sh_dc_lr;
+  lr.sh_rest = config_.sh_rest_lr;
+  lr.opacity = config_.opacity_lr;
+  lr.scales = config_.scale_lr;
+  lr.rotations = config_.rotation_lr;
+  return lr;
+}
+
+StepResult SplatTrainer::step() {
+  const int iteration = iteration_ + 1;  // 1-based, as train.py counts
+  StepResult result;
+  if (config_.sh_increase_interval > 0 && iteration % config_.sh_increase_interval == 0)
+    active_sh_degree_ = std::min(active_sh_degree_ + 1, model_.sh_degree);
+  const DatasetView& view = next_view();
+  RenderSettings settings;
+  settings.sh_degree = active_sh_degree_;
+  std::copy(config_.background, config_.background + 3, settings.background);
+  settings.alpha_clamp_gradient = config_.alpha_clamp_gradient;
+
+  auto start = Clock::now();
+  rasterizer_.render(model_, view.camera, settings, render_);
+  result.timings.forward = ms_since(start);
+
+  start = Clock::now();
+  const LossValue loss =
+      photometric_loss(render_.color, view.image, config_.ssim_weight, &v_image_, ssim_scratch_);
+  result.timings.loss = ms_since(start);
+  result.loss = loss.loss;
+  result.l1 = loss.l1;
+  result.ssim = loss.ssim;
+  if (!std::isfinite(loss.loss)) throw TrainingDiverged(iteration, "loss");
+
+  start = Clock::now();
+  rasterizer_.backward(model_, view.camera, settings, render_, v_image_, grads_);
+  result.timings.backward = ms_since(start);
+
+  start = Clock::now();
+  result.density = density_.step(iteration, model_, adam_, grads_.viewspace_grad_norm,
+                                 rasterizer_.projected().radius, scene_extent_, rng_);
+  result.timings.densify = ms_since(start);
+
+  start = Clock::now();
+  // After densification every parameter array is new and has no gradient in the official
+  // trainer, so its optimiser skips the step; after an opacity reset only the opacities do.
+  // (train.py also skips the last iteration's step; we take it, so that a run resumed from
+  // a checkpoint is identical to one that never stopped.)
+  if (!result.density.densified) {
+    AdamGroupMask active;
+    active.opacity = !result.density.opacity_reset;
+    adam_step(model_, grads_.params, adam_, learning_rates(), {}, active);
+  }
+  // The cheap groups every iteration; SH coefficients (most of the data) less often: a NaN
+  // there shows in the next loss anyway.
+  const std::pair<const char*, const std::vector<float>*> groups[] = {
+      {"means", &model_.means}, {"log_scales", &model_.log_scales}, {"quaternions", &model_.quats},
+      {"opacity_logits", &model_.opacity_logits}};
+  for (const auto& [name, values] : groups)
+    if (!all_finite(*values)) throw TrainingDiverged(iteration, name);
+  if (iteration % kLastGoodInterval == 0) {
+    if (!all_finite(model_.sh)) throw TrainingDiverged(iteration, "sh_coefficients");
+    last_good_model_ = model_;
+  }
+  result.timings.optimizer = ms_since(start);
+  iteration_ = iteration;
+  return result;
+}
+
+void SplatTrainer::check_parameters_finite() const {
+  const std::pair<const char*, const std::vector<float>*> groups[] = {
+      {"means", &model_.means},
+      {"log_scales", &model_.log_scales},
+      {"quaternions", &model_.quats},
+      {"opacity_logits", &model_.opacity_logits},
+      {"sh_coefficients", &model_.sh}};
+  for (const auto& [name, values] : groups)
+    if (!all_finite(*values)) throw TrainingDiverged(iteration_, name);
+}
+
+Evaluation SplatTrainer::evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) {
+  Evaluation e;
+  RenderSettings settings;
+  settings.sh_degree = active_sh_degree_;
+  std::copy(config_.background, config_.background + 3, settings.background);
+  Rasterizer rasterizer;
+  RenderResult result;
+  if (renders) renders->clear();
+  for (const DatasetView& view : views) {
+    rasterizer.render(model_, view.camera, settings, result);
+    Image image = clamped(result.color);
+    const double view_psnr = psnr(image, view.image);
+    e.view_psnr.push_back(view_psnr);
+    e.psnr += view_psnr;
+    e.ssim += ssim(image, view.image);
+    if (renders) renders->push_back(std::move(image));
+  }
+  e.views = int(views.size());
+  if (e.views > 0) {
+    e.psnr /= e.views;
+    e.ssim /= e.views;
+  }
+  return e;
+}
+
+}  // namespace splat

@@ -1,0 +1,103 @@
+#pragma once
+// The Gaussian-splatting trainer: the official 3DGS optimisation loop on the CPU rasterizer.
+// One step() is one iteration: pick a training view, render, (1 − λ)·L1 + λ·(1 − SSIM),
+// backward, density control, Adam. No printing: the command line reports progress.
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "splat/core/error.hpp"
+#include "splat/data/dataset.hpp"
+#include "splat/optim/adam.hpp"
+#include "splat/optim/density_control.hpp"
+#include "splat/optim/photometric_loss.hpp"
+#include "splat/raster/rasterizer.hpp"
+#include "splat/train/training_config.hpp"
+
+namespace splat {
+
+// Training produced NaN or Inf: which iteration and which parameter group (or "loss").
+class TrainingDiverged : public Error {
+ public:
+  TrainingDiverged(int iteration, const std::string& group)
+      : Error("training diverged at iteration " + std::to_string(iteration) + ": non-finite " +
+              group),
+        iteration_(iteration), group_(group) {}
+  int iteration() const { return iteration_; }
+  const std::string& group() const { return group_; }
+
+ private:
+  int iteration_;
+  std::string group_;
+};
+
+struct IterationTimings {  // milliseconds
+  double forward = 0, loss = 0, backward = 0, optimizer = 0, densify = 0;
+};
+
+struct StepResult {
+  double loss = 0, l1 = 0, ssim = 0;
+  IterationTimings timings;
+  DensityControlReport density;
+};
+
+struct Evaluation {
+  double psnr = 0, ssim = 0;      // means over the views; images clamped to [0, 1]
+  int views = 0;
+  std::vector<double> view_psnr;  // per view
+};
+
+class SplatTrainer {
+ public:
+  // Initialises the model from the dataset's points, or randomly in a cube if it has none.
+  SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& config);
+
+  // One iteration. Throws TrainingDiverged on a non-finite loss or parameter.
+  StepResult step();
+
+  // Renders `views` with the current model (active SH bands) and scores them. If `renders`
+  // is given it receives the clamped images.
+  Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders = nullptr);
+
+  int iteration() const { return iteration_; }  // iterations completed
+  int active_sh_degree() const { return active_sh_degree_; }
+  const GaussianModel& model() const { return model_; }
+  // The parameters as of the last check that found every group finite.
+  const GaussianModel& last_good_model() const { return last_good_model_; }
+  const SplatTrainingConfig& config() const { return config_; }
+  float scene_extent() const { return scene_extent_; }
+
+  // Throws TrainingDiverged naming the first parameter group with a non-finite value.
+  void check_parameters_finite() const;
+
+  // Everything needed to continue exactly where training stopped (model, Adam state,
+  // densification statistics, random state, view order), written atomically.
+  void save_checkpoint(const std::filesystem::path& file) const;
+  // Restores a checkpoint written by save_checkpoint; throws InputError naming the file if it
+  // is not one or was written for different data.
+  void load_checkpoint(const std::filesystem::path& file);
+
+ private:
+  const DatasetView& next_view();
+  GroupLearningRates learning_rates() const;
+
+  const Dataset& dataset_;
+  SplatTrainingConfig config_;
+  float scene_extent_;
+  GaussianModel model_, last_good_model_;
+  AdamState adam_;
+  DensityControl density_;
+  std::mt19937 rng_;
+  std::vector<std::size_t> view_stack_;  // training views not yet used in this epoch
+  int iteration_ = 0;
+  int active_sh_degree_ = 0;
+
+  Rasterizer rasterizer_;
+  RenderResult render_;
+  RasterGradients grads_;
+  Image v_image_;
+  SsimScratch ssim_scratch_;
+};
+
+}  // namespace splat

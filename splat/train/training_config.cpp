@@ -1,0 +1,95 @@
+#include "splat/train/training_config.hpp"
+
+#include <string>
+
+#include "splat/core/error.hpp"
+
+namespace splat {
+
+namespace {
+
+// One table of (name, getter/setter) so writing and reading cannot drift apart.
+template <class Visitor>
+void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
+  v("iterations", c.iterations);
+  v("max_seconds", c.max_seconds);
+  v("background_r", c.background[0]);
+  v("background_g", c.background[1]);
+  v("background_b", c.background[2]);
+  v("seed", c.seed);
+  v("ssim_weight", c.ssim_weight);
+  v("position_lr_init", c.position_lr_init);
+  v("position_lr_final", c.position_lr_final);
+  v("position_lr_max_steps", c.position_lr_max_steps);
+  v("sh_dc_lr", c.sh_dc_lr);
+  v("sh_rest_lr", c.sh_rest_lr);
+  v("opacity_lr", c.opacity_lr);
+  v("scale_lr", c.scale_lr);
+  v("rotation_lr", c.rotation_lr);
+  v("sh_degree", c.sh_degree);
+  v("sh_increase_interval", c.sh_increase_interval);
+  v("random_init_points", c.random_init_points);
+  v("random_init_half_extent", c.random_init_half_extent);
+  DensityControlSettings& d = c.density;
+  v("densify_from_iter", d.densify_from_iter);
+  v("densify_until_iter", d.densify_until_iter);
+  v("densification_interval", d.densification_interval);
+  v("opacity_reset_interval", d.opacity_reset_interval);
+  v("densify_grad_threshold", d.densify_grad_threshold);
+  v("percent_dense", d.percent_dense);
+  v("split_count", d.split_count);
+  v("split_scale_divisor", d.split_scale_divisor);
+  v("min_opacity", d.min_opacity);
+  v("max_screen_size", d.max_screen_size);
+  v("max_world_size_factor", d.max_world_size_factor);
+  v("prune_by_screen_size", d.prune_by_screen_size);
+  v("opacity_reset_value", d.opacity_reset_value);
+  v("max_gaussians", d.max_gaussians);
+  v("test_interval", c.test_interval);
+  v("checkpoint_interval", c.checkpoint_interval);
+}
+
+}  // namespace
+
+nlohmann::json to_json(const SplatTrainingConfig& config) {
+  nlohmann::json j;
+  SplatTrainingConfig copy = config;
+  visit_fields(copy, [&](const char* name, auto& value) { j[name] = value; });
+  j["alpha_clamp_gradient"] =
+      config.alpha_clamp_gradient == AlphaClampGradient::kZero ? "zero" : "straight-through";
+  return j;
+}
+
+void from_json(const nlohmann::json& json, SplatTrainingConfig& config) {
+  if (!json.is_object()) throw ArgumentError("training config: expected a JSON object");
+  std::size_t known = 0;
+  visit_fields(config, [&](const char* name, auto& value) {
+    auto it = json.find(name);
+    if (it == json.end()) return;
+    ++known;
+    using T = std::remove_reference_t<decltype(value)>;
+    if constexpr (std::is_same_v<T, bool>) {
+      if (!it->is_boolean()) throw ArgumentError(std::string("training config: ") + name + " must be true or false");
+    } else {
+      if (!it->is_number()) throw ArgumentError(std::string("training config: ") + name + " must be a number");
+    }
+    value = it->get<T>();
+  });
+  if (auto it = json.find("alpha_clamp_gradient"); it != json.end()) {
+    ++known;
+    const std::string mode = it->is_string() ? it->get<std::string>() : "";
+    if (mode == "zero") config.alpha_clamp_gradient = AlphaClampGradient::kZero;
+    else if (mode == "straight-through") config.alpha_clamp_gradient = AlphaClampGradient::kStraightThrough;
+    else throw ArgumentError("training config: alpha_clamp_gradient must be \"zero\" or \"straight-through\"");
+  }
+  if (known != json.size())
+    for (auto it = json.begin(); it != json.end(); ++it) {
+      bool found = it.key() == "alpha_clamp_gradient";
+      visit_fields(config, [&](const char* name, auto&) { found = found || it.key() == name; });
+      if (!found) throw ArgumentError("training config: unknown setting '" + it.key() + "'");
+    }
+  config.density.white_background =
+      config.background[0] == 1.0f && config.background[1] == 1.0f && config.background[2] == 1.0f;
+}
+
+}  // namespace splat

@@ -1,0 +1,44 @@
+#pragma once
+// Every setting of the Gaussian-splatting trainer in one struct with the official 3DGS
+// defaults. The command line fills it; it is written beside every output (config.json) and
+// into checkpoints, so a run can be reproduced and resumed.
+#include <cstddef>
+#include <nlohmann/json.hpp>
+
+#include "splat/optim/density_control.hpp"
+#include "splat/raster/rasterizer.hpp"
+
+namespace splat {
+
+struct SplatTrainingConfig {
+  int iterations = 30000;
+  double max_seconds = 0;            // wall-clock limit, 0 = none; whichever ends first
+  float background[3] = {1, 1, 1};
+  unsigned seed = 0;                 // view order, initialisation, split samples
+
+  float ssim_weight = 0.2f;          // λ in (1 − λ)·L1 + λ·(1 − SSIM)
+  // Learning rates (the position one is scaled by the scene extent and decays exponentially).
+  double position_lr_init = 1.6e-4, position_lr_final = 1.6e-6;
+  int position_lr_max_steps = 30000;
+  float sh_dc_lr = 2.5e-3f, sh_rest_lr = 2.5e-3f / 20.0f;
+  float opacity_lr = 0.05f, scale_lr = 5e-3f, rotation_lr = 1e-3f;
+
+  int sh_degree = 3;                 // bands the model stores
+  int sh_increase_interval = 1000;   // one more active band every this many iterations
+
+  std::size_t random_init_points = 100000;  // when the dataset has no point cloud
+  float random_init_half_extent = 1.3f;     // cube [−h, h]³
+
+  DensityControlSettings density;    // includes max_gaussians (the Gaussian budget)
+  AlphaClampGradient alpha_clamp_gradient = AlphaClampGradient::kZero;
+
+  int test_interval = 1000;          // iterations between test evaluations (0 = end only)
+  int checkpoint_interval = 5000;    // iterations between checkpoints (0 = none)
+};
+
+nlohmann::json to_json(const SplatTrainingConfig& config);
+// Reads the fields present in `json` over `config` (defaults for the rest); throws
+// ArgumentError naming an unknown key or a value of the wrong type.
+void from_json(const nlohmann::json& json, SplatTrainingConfig& config);
+
+}  // namespace splat

@@ -1,0 +1,157 @@
+// splat-train end to end on a tiny dataset rendered from the built-in demo model: it trains
+// (loss down, PSNR up), writes the contract's outputs, is deterministic across thread counts,
+// resumes exactly, saves on Ctrl-C, stops on divergence naming the group, rejects bad input.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_support.hpp"
+#include "splat/data/orbit_cameras.hpp"
+#include "splat/data/rendered_dataset.hpp"
+#include "splat/gaussians/demo_model.hpp"
+#include "splat/gaussians/ply_io.hpp"
+#include "test_support.hpp"
+
+namespace splat {
+namespace {
+
+namespace fs = std::filesystem;
+
+// 12 training and 3 test views of the demo model at 64x64; cached across tests.
+fs::path tiny_dataset() {
+  static const fs::path dir = [] {
+    const fs::path d = test::scratch_dir("train_cli_dataset");
+    OrbitRig train_rig;
+    train_rig.count = 12;
+    train_rig.radius = 5.5f;
+    train_rig.width = train_rig.height = 64;
+    OrbitRig test_rig = train_rig;
+    test_rig.count = 3;
+    test_rig.elevation_radians = 0.7f;
+    const float white[3] = {1, 1, 1};
+    write_rendered_dataset(make_demo_model(3000), orbit_cameras(train_rig), orbit_cameras(test_rig), white, d);
+    // Small settings so the run takes about a second but still densifies and resets.
+    test::write_text(d / "tiny_config.json", R"({"random_init_points": 4000, "densify_from_iter": 100,
+      "densification_interval": 50, "opacity_reset_interval": 200, "densify_until_iter": 250})");
+    return d;
+  }();
+  return dir;
+}
+
+std::string train_command(const fs::path& out, const std::string& extra) {
+  return std::string(SPLAT_TRAIN_EXE) + " --data " + tiny_dataset().string() + " --out " +
+         out.string() + " --config " + (tiny_dataset() / "tiny_config.json").string() + " " + extra;
+}
+
+nlohmann::json read_json(const fs::path& file) { return nlohmann::json::parse(test::read_file(file)); }
+
+TEST(TrainCli, TrainsAndWritesTheContractOutputs) {
+  const fs::path dir = test::scratch_dir("train_cli_basic");
+  const auto r = test::run_command(train_command(dir / "out", "--iters 300 --test-every 100"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const nlohmann::json m = read_json(dir / "out" / "metrics.json");
+  EXPECT_EQ(m.at("method"), "splat");
+  EXPECT_EQ(m.at("iterations").get<int>(), 300);
+  EXPECT_GT(m.at("train_seconds").get<double>(), 0.0);
+  EXPECT_EQ(m.at("test").at("views").get<int>(), 3);
+  const auto& history = m.at("history");
+  ASSERT_GE(history.size(), 3u);
+  // The loss falls and the test PSNR rises.
+  EXPECT_LT(history.back().at("loss").get<double>(), history.front().at("loss").get<double>() * 0.7);
+  double first_psnr = 0;
+  for (const auto& h : history)
+    if (h.contains("test_psnr")) {
+      first_psnr = h["test_psnr"];
+      break;
+    }
+  EXPECT_GT(m.at("test").at("psnr").get<double>(), first_psnr + 1.0);
+  EXPECT_GT(m.at("test").at("psnr").get<double>(), 18.0);
+  // The model file is a standard PLY of the reported size.
+  const GaussianModel model = read_ply(dir / "out" / "model.ply");
+  EXPECT_EQ(model.size(), m.at("num_gaussians").get<std::size_t>());
+  EXPECT_EQ(model.sh_degree, 3);
+  EXPECT_EQ(fs::file_size(dir / "out" / "model.ply"), m.at("model_bytes").get<std::size_t>());
+  EXPECT_EQ(m.at("num_params").get<std::size_t>(), model.size() * 59);
+  for (const char* name : {"view_000", "view_001", "view_002"})
+    EXPECT_TRUE(fs::exists(dir / "out" / "test" / (std::string(name) + ".png"))) << name;
+  EXPECT_TRUE(fs::exists(dir / "out" / "config.json"));
+  for (const char* key : {"forward", "loss", "backward", "optimizer", "densify"})
+    EXPECT_TRUE(m.at("ms_per_iteration").contains(key)) << key;
+}
+
+TEST(TrainCli, ResultDoesNotDependOnThreadCount) {
+  const fs::path dir = test::scratch_dir("train_cli_threads");
+  for (const char* threads : {"1", "2"}) {
+    const auto r = test::run_command(
+        train_command(dir / threads, std::string("--iters 150 --quiet --threads ") + threads), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  EXPECT_TRUE(test::read_file(dir / "1" / "model.ply") == test::read_file(dir / "2" / "model.ply"))
+      << "models trained with 1 and 2 threads differ";
+}
+
+TEST(TrainCli, ResumeContinuesExactly) {
+  const fs::path dir = test::scratch_dir("train_cli_resume");
+  auto r = test::run_command(train_command(dir / "straight", "--iters 240 --quiet"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_command(train_command(dir / "split", "--iters 120 --checkpoint-every 120 --quiet"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(fs::exists(dir / "split" / "checkpoint.ckpt"));
+  r = test::run_command(train_command(dir / "split", "--iters 240 --quiet --resume " + (dir / "split").string()), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(test::read_file(dir / "straight" / "model.ply") == test::read_file(dir / "split" / "model.ply"))
+      << "the resumed run's model differs from the uninterrupted run's";
+}
+
+TEST(TrainCli, InterruptSavesCheckpointAndModel) {
+  const fs::path dir = test::scratch_dir("train_cli_interrupt");
+  const std::string cmd = "(" + train_command(dir / "out", "--iters 1000000 --quiet") +
+                          " & pid=$!; sleep 2; kill -INT $pid; wait $pid; echo $? > " +
+                          (dir / "code").string() + ")";
+  test::run_command(cmd, dir);
+  EXPECT_EQ(std::stoi(test::read_file(dir / "code")), 130);
+  EXPECT_TRUE(fs::exists(dir / "out" / "checkpoint.ckpt"));
+  const GaussianModel model = read_ply(dir / "out" / "model.ply");
+  EXPECT_GT(model.size(), 0u);
+  EXPECT_EQ(read_json(dir / "out" / "metrics.json").at("stopped_by"), "interrupt");
+}
+
+TEST(TrainCli, DivergenceStopsNamingIterationAndGroup) {
+  const fs::path dir = test::scratch_dir("train_cli_diverge");
+  // A position step of ~1e38 per iteration overflows float within a few iterations.
+  test::write_text(dir / "explode.json",
+                   R"({"random_init_points": 2000, "position_lr_init": 1e37, "position_lr_final": 1e37})");
+  const auto r = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --data " + tiny_dataset().string() +
+                                       " --out " + (dir / "out").string() + " --iters 50 --quiet --config " +
+                                       (dir / "explode.json").string(),
+                                   dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("diverged at iteration"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("non-finite means"), std::string::npos) << r.err;
+  const GaussianModel last_good = read_ply(dir / "out" / "model.ply");  // finite, readable
+  EXPECT_GT(last_good.size(), 0u);
+}
+
+TEST(TrainCli, BadInputsFailCleanly) {
+  const fs::path dir = test::scratch_dir("train_cli_bad");
+  fs::create_directories(dir / "empty");
+  const std::string exe = SPLAT_TRAIN_EXE;
+  struct Case { std::string args, expected; };
+  const Case cases[] = {
+      {"--data /nonexistent --out " + (dir / "o").string(), "/nonexistent"},
+      {"--data " + (dir / "empty").string() + " --out " + (dir / "o").string(), (dir / "empty").string()},
+      {"--data " + tiny_dataset().string() + " --out " + (dir / "o").string() + " --iters 0", "--iters"},
+      {"--data " + tiny_dataset().string() + " --out " + (dir / "o").string() + " --bg green", "--bg"},
+      {"--data " + tiny_dataset().string() + " --out " + (dir / "o").string() + " --resume /nonexistent.ckpt", "/nonexistent.ckpt"},
+      {"--out " + (dir / "o").string(), "--data"},
+  };
+  for (const Case& c : cases) {
+    const auto r = test::run_command(exe + " " + c.args + " --quiet", dir);
+    EXPECT_EQ(r.exit_code, 2) << c.args;
+    EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(c.expected), std::string::npos) << c.args << " -> " << r.err;
+  }
+}
+
+}  // namespace
+}  // namespace splat

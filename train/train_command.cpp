@@ -1,0 +1,296 @@
+#include "train_command.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sys/resource.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+#include <unistd.h>
+
+#include "progress_reporter.hpp"
+#include "splat/core/atomic_file.hpp"
+#include "splat/data/image_io.hpp"
+#include "splat/gaussians/ply_io.hpp"
+#include "splat/train/splat_trainer.hpp"
+
+namespace splat::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* kCheckpointName = "checkpoint.ckpt";
+constexpr int kHistoryInterval = 100;  // iterations per history entry
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void on_interrupt(int) { g_interrupted = true; }
+
+std::size_t peak_memory_bytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return std::size_t(usage.ru_maxrss) * 1024;  // ru_maxrss is in KiB on Linux
+}
+
+void write_json(const fs::path& file, const nlohmann::json& json) {
+  write_atomically(file, [&](const fs::path& temp) {
+    std::ofstream out(temp);
+    out << json.dump(1) << "\n";
+    if (!out) throw InputError(file, "cannot write the file");
+  });
+}
+
+fs::path checkpoint_file(const fs::path& resume) {
+  return fs::is_directory(resume) ? resume / kCheckpointName : resume;
+}
+
+// Running means of the per-iteration figures since the last history entry.
+struct WindowAverages {
+  double loss = 0;
+  IterationTimings timings;
+  int count = 0;
+  void add(const StepResult& r) {
+    loss += r.loss;
+    timings.forward += r.timings.forward;
+    timings.loss += r.timings.loss;
+    timings.backward += r.timings.backward;
+    timings.optimizer += r.timings.optimizer;
+    timings.densify += r.timings.densify;
+    ++count;
+  }
+};
+
+nlohmann::json timings_json(const IterationTimings& t, int count) {
+  const double n = std::max(1, count);
+  return {{"forward", t.forward / n},     {"loss", t.loss / n},
+          {"backward", t.backward / n},   {"optimizer", t.optimizer / n},
+          {"densify", t.densify / n},
+          {"total", (t.forward + t.loss + t.backward + t.optimizer + t.densify) / n}};
+}
+
+class TrainingRun {
+ public:
+  TrainingRun(const TrainCommandOptions& options, const Dataset& dataset)
+      : options_(options), dataset_(dataset), trainer_(dataset, options.config),
+        progress_(isatty(STDOUT_FILENO) && !options.quiet) {}
+
+  int run();
+
+ private:
+  void evaluate_and_record(double train_seconds);
+  void write_outputs(const GaussianModel& model, const std::string& stopped_by, double train_seconds);
+  nlohmann::json metrics(const GaussianModel& model, const std::string& stopped_by, double train_seconds,
+                         std::size_t model_bytes) const;
+
+  const TrainCommandOptions& options_;
+  const Dataset& dataset_;
+  SplatTrainer trainer_;
+  ProgressReporter progress_;
+  nlohmann::json history_ = nlohmann::json::array();
+  std::optional<Evaluation> last_test_;
+  IterationTimings total_timings_;
+  int timed_iterations_ = 0;
+  double resumed_seconds_ = 0;  // training time before this process (when resuming)
+};
+
+void TrainingRun::evaluate_and_record(double train_seconds) {
+  last_test_ = trainer_.evaluate(dataset_.test);
+  if (!history_.empty() && history_.back()["iteration"] == trainer_.iteration()) {
+    history_.back()["test_psnr"] = last_test_->psnr;
+    history_.back()["test_ssim"] = last_test_->ssim;
+  } else {
+    history_.push_back({{"iteration", trainer_.iteration()}, {"seconds", train_seconds},
+                        {"num_gaussians", trainer_.model().size()},
+                        {"test_psnr", last_test_->psnr}, {"test_ssim", last_test_->ssim}});
+  }
+  char line[160];
+  std::snprintf(line, sizeof(line), "[test] iteration %d: PSNR %.3f dB, SSIM %.4f over %d views (%zu Gaussians)",
+                trainer_.iteration(), last_test_->psnr, last_test_->ssim, last_test_->views,
+                trainer_.model().size());
+  if (!options_.quiet) progress_.message(line);
+}
+
+int TrainingRun::run() {
+  const SplatTrainingConfig& config = trainer_.config();
+  if (options_.resume) {
+    const fs::path file = checkpoint_file(*options_.resume);
+    trainer_.load_checkpoint(file);
+    const fs::path old_metrics = file.parent_path() / "metrics.json";
+    if (fs::exists(old_metrics)) {
+      try {
+        std::ifstream in(old_metrics);
+        const auto j = nlohmann::json::parse(in);
+        history_ = j.at("history");
+        resumed_seconds_ = j.at("train_seconds").get<double>();
+      } catch (const std::exception&) {
+        // An unreadable old history only loses the curve before the resume point.
+      }
+    }
+    if (!options_.quiet)
+      progress_.message("resumed from " + file.string() + " at iteration " +
+                        std::to_string(trainer_.iteration()));
+  }
+  write_json(options_.out / "config.json", to_json(config));
+
+  std::signal(SIGINT, on_interrupt);
+  std::signal(SIGTERM, on_interrupt);
+  const auto start = Clock::now();
+  double eval_seconds = 0;  // wall time spent evaluating, not training
+  auto train_seconds = [&] {
+    return resumed_seconds_ + std::chrono::duration<double>(Clock::now() - start).count() - eval_seconds;
+  };
+  auto wall_seconds = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  WindowAverages window;
+  std::string stopped_by = "iterations";
+  const int first_iteration = trainer_.iteration();
+  try {
+    while (trainer_.iteration() < config.iterations) {
+      if (g_interrupted) {
+        stopped_by = "interrupt";
+        break;
+      }
+      if (config.max_seconds > 0 && wall_seconds() >= config.max_seconds) {
+        stopped_by = "time";
+        break;
+      }
+      const StepResult r = trainer_.step();
+      window.add(r);
+      total_timings_.forward += r.timings.forward;
+      total_timings_.loss += r.timings.loss;
+      total_timings_.backward += r.timings.backward;
+      total_timings_.optimizer += r.timings.optimizer;
+      total_timings_.densify += r.timings.densify;
+      ++timed_iterations_;
+      const int it = trainer_.iteration();
+      if (it % kHistoryInterval == 0 || it == config.iterations) {
+        history_.push_back({{"iteration", it}, {"seconds", train_seconds()},
+                            {"loss", window.loss / std::max(1, window.count)},
+                            {"num_gaussians", trainer_.model().size()},
+                            {"ms_per_iteration", timings_json(window.timings, window.count)}});
+        window = WindowAverages{};
+      }
+      if (config.test_interval > 0 && it % config.test_interval == 0 && it < config.iterations) {
+        const auto eval_start = Clock::now();
+        evaluate_and_record(train_seconds());
+        eval_seconds += std::chrono::duration<double>(Clock::now() - eval_start).count();
+      }
+      if (config.checkpoint_interval > 0 && it % config.checkpoint_interval == 0)
+        trainer_.save_checkpoint(options_.out / kCheckpointName);
+      if (!options_.quiet) {
+        ProgressSnapshot s;
+        s.iteration = it;
+        s.total_iterations = config.iterations;
+        s.elapsed_seconds = wall_seconds();
+        s.max_seconds = config.max_seconds;
+        s.iterations_per_second = (it - first_iteration) / std::max(1e-9, train_seconds() - resumed_seconds_);
+        s.loss = r.loss;
+        if (last_test_) s.test_psnr = last_test_->psnr;
+        s.gaussians = trainer_.model().size();
+        progress_.update(s);
+      }
+    }
+  } catch (const TrainingDiverged& diverged) {
+    progress_.finish();
+    // Keep what was good: the last parameters that passed the finiteness check.
+    write_ply(trainer_.last_good_model(), options_.out / "model.ply");
+    nlohmann::json m = metrics(trainer_.last_good_model(), "diverged", train_seconds(),
+                               fs::file_size(options_.out / "model.ply"));
+    m["diverged"] = {{"iteration", diverged.iteration()}, {"group", diverged.group()}};
+    write_json(options_.out / "metrics.json", m);
+    throw Error(std::string(diverged.what()) + "; the last good model is in " +
+                (options_.out / "model.ply").string());
+  }
+  progress_.finish();
+  const double seconds = train_seconds();
+  if (stopped_by == "interrupt") {
+    trainer_.save_checkpoint(options_.out / kCheckpointName);
+    if (!options_.quiet)
+      progress_.message("interrupted at iteration " + std::to_string(trainer_.iteration()) +
+                        ": checkpoint saved to " + (options_.out / kCheckpointName).string() +
+                        " (continue with --resume " + options_.out.string() + ")");
+  }
+  trainer_.check_parameters_finite();
+  write_outputs(trainer_.model(), stopped_by, seconds);
+  return stopped_by == "interrupt" ? 130 : 0;
+}
+
+nlohmann::json TrainingRun::metrics(const GaussianModel& model, const std::string& stopped_by,
+                                    double train_seconds, std::size_t model_bytes) const {
+  const std::size_t params_per_gaussian = 3 + 3 + 4 + 1 + std::size_t(model.sh_coefficients()) * 3;
+  nlohmann::json m;
+  m["method"] = "splat";
+  m["iterations"] = trainer_.iteration();
+  m["train_seconds"] = train_seconds;
+  m["num_gaussians"] = model.size();
+  m["num_params"] = model.size() * params_per_gaussian;
+  m["model_bytes"] = model_bytes;
+  if (last_test_)
+    m["test"] = {{"psnr", last_test_->psnr}, {"ssim", last_test_->ssim}, {"views", last_test_->views}};
+  m["history"] = history_;
+  m["stopped_by"] = stopped_by;
+  m["ms_per_iteration"] = timings_json(total_timings_, timed_iterations_);
+  m["peak_memory_bytes"] = peak_memory_bytes();
+  m["threads"] = options_.threads > 0 ? options_.threads : tbb::info::default_concurrency();
+  m["scene_extent"] = trainer_.scene_extent();
+  m["data"] = options_.data.string();
+  m["train_views"] = dataset_.train.size();
+  return m;
+}
+
+void TrainingRun::write_outputs(const GaussianModel& model, const std::string& stopped_by,
+                                double train_seconds) {
+  std::vector<Image> renders;
+  last_test_ = trainer_.evaluate(dataset_.test, &renders);
+  if (history_.empty() || history_.back()["iteration"] != trainer_.iteration())
+    history_.push_back({{"iteration", trainer_.iteration()}, {"seconds", train_seconds},
+                        {"num_gaussians", model.size()}});
+  history_.back()["test_psnr"] = last_test_->psnr;
+  history_.back()["test_ssim"] = last_test_->ssim;
+  fs::create_directories(options_.out / "test");
+  for (std::size_t i = 0; i < renders.size(); ++i)
+    write_png(renders[i], options_.out / "test" / (dataset_.test[i].name + ".png"));
+  const fs::path model_file = options_.out / "model.ply";
+  write_ply(model, model_file);
+  write_json(options_.out / "metrics.json",
+             metrics(model, stopped_by, train_seconds, fs::file_size(model_file)));
+  if (!options_.quiet) {
+    char line[256];
+    std::snprintf(line, sizeof(line),
+                  "done: %d iterations in %s, %zu Gaussians, test PSNR %.3f dB, SSIM %.4f (%d views)",
+                  trainer_.iteration(), format_duration(train_seconds).c_str(), model.size(),
+                  last_test_->psnr, last_test_->ssim, last_test_->views);
+    progress_.message(line);
+    progress_.message("outputs: " + model_file.string() + ", " +
+                      (options_.out / "metrics.json").string() + ", " +
+                      (options_.out / "test").string() + "/*.png");
+  }
+}
+
+}  // namespace
+
+int run_train_command(const TrainCommandOptions& options) {
+  std::unique_ptr<tbb::global_control> threads;
+  if (options.threads > 0)
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    std::size_t(options.threads));
+  const Dataset dataset = load_dataset(options.data, options.dataset);
+  if (dataset.train.empty()) throw InputError(options.data, "the dataset has no training views");
+  std::error_code ec;
+  fs::create_directories(options.out, ec);
+  if (!fs::is_directory(options.out)) throw InputError(options.out, "cannot create the output folder");
+  if (!options.quiet)
+    std::printf("data: %s (%zu train, %zu test views, %s), scene extent %.3f\n",
+                options.data.string().c_str(), dataset.train.size(), dataset.test.size(),
+                dataset.points ? (std::to_string(dataset.points->size()) + " points").c_str()
+                               : "random initialisation",
+                dataset.scene_extent);
+  TrainingRun run(options, dataset);
+  return run.run();
+}
+
+}  // namespace splat::cli

@@ -1,0 +1,24 @@
+#pragma once
+// splat-train's work: load the data, train, report progress, and write model, metrics,
+// test renders and checkpoints (DESIGN.md contract).
+#include <filesystem>
+#include <optional>
+
+#include "splat/data/dataset.hpp"
+#include "splat/train/training_config.hpp"
+
+namespace splat::cli {
+
+struct TrainCommandOptions {
+  std::filesystem::path data, out;
+  std::optional<std::filesystem::path> resume;  // a checkpoint file, or a folder holding one
+  SplatTrainingConfig config;
+  DatasetOptions dataset;
+  int threads = 0;               // 0 = all cores
+  bool quiet = false;            // no progress bar / lines
+};
+
+// Returns the process exit status: 0 done, 2 error (printed), 130 interrupted (after saving).
+int run_train_command(const TrainCommandOptions& options);
+
+}  // namespace splat::cli
