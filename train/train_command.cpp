@@ -158,6 +158,17 @@ int TrainingRun::run() {
         stopped_by = "time";
         break;
       }
+      // A test point that falls on an opacity reset would score a nearly transparent model:
+      // score it just before the reset instead.
+      const int next = trainer_.iteration() + 1;
+      const bool test_due = config.test_interval > 0 && next % config.test_interval == 0 &&
+                            next < config.iterations;
+      const bool test_before_step = test_due && trainer_.resets_opacity_at(next);
+      if (test_before_step) {
+        const auto eval_start = Clock::now();
+        evaluate_and_record(train_seconds());
+        eval_seconds += std::chrono::duration<double>(Clock::now() - eval_start).count();
+      }
       const StepResult r = trainer_.step();
       window.add(r);
       total_timings_.forward += r.timings.forward;
@@ -174,7 +185,7 @@ int TrainingRun::run() {
                             {"ms_per_iteration", timings_json(window.timings, window.count)}});
         window = WindowAverages{};
       }
-      if (config.test_interval > 0 && it % config.test_interval == 0 && it < config.iterations) {
+      if (test_due && !test_before_step) {
         const auto eval_start = Clock::now();
         evaluate_and_record(train_seconds());
         eval_seconds += std::chrono::duration<double>(Clock::now() - eval_start).count();

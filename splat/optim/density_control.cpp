@@ -250,14 +250,20 @@ DensityControlReport DensityControl::step(int iteration, GaussianModel& model, A
                                                : std::nullopt;
       report = densify_and_prune(model, adam, scene_extent, size_threshold, rng);
     }
-    if (iteration % s.opacity_reset_interval == 0 ||
-        (s.white_background && iteration == s.densify_from_iter)) {
+    if (resets_opacity_at(iteration)) {
       reset_opacity(model, adam, s.opacity_reset_value);
       report.opacity_reset = true;
     }
   }
   report.count_after = model.size();
   return report;
+}
+
+bool DensityControl::resets_opacity_at(int iteration) const {
+  const DensityControlSettings& s = settings_;
+  return iteration < s.densify_until_iter &&
+         (iteration % s.opacity_reset_interval == 0 ||
+          (s.white_background && iteration == s.densify_from_iter));
 }
 
 void reset_opacity(GaussianModel& model, AdamState& adam, float cap) {

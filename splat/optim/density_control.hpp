@@ -104,6 +104,10 @@ class DensityControl {
                             std::span<const std::int32_t> radii, float scene_extent,
                             std::mt19937& rng);
 
+  // True when step(iteration, ...) will reset the opacities (callers that evaluate the model
+  // avoid scoring it right after a reset, when everything is nearly transparent).
+  bool resets_opacity_at(int iteration) const;
+
   // add_densification_stats: for every Gaussian with radius > 0, accumulate the gradient
   // norm, count the view and track the largest radius.
   void add_stats(std::span<const float> view_grad_norms, std::span<const std::int32_t> radii);
