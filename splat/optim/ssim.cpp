@@ -327,8 +327,9 @@ double forward_band(const T* x, const T* y, const Saved<T>& saved, const Workspa
 //   ∂SSIM/∂x_q = (1/n) Σ_p G(p − q) [∂m/∂μx(p) + 2 x_q ∂m/∂Exx(p) + y_q ∂m/∂Exy(p)].
 // Σ_p G(p − q) f(p) with p over the image only is the adjoint of the zero-padded blur; the
 // window is symmetric, so it is the same zero-padded blur applied to f. The separable blur's
-// adjoint runs its passes in reverse order, but the row and column passes commute exactly
-// (they act on different axes of a rectangular zero padding), so rows-then-columns is reused.
+// adjoint runs its passes in reverse order, but as linear maps the row and column passes
+// commute (they act on different axes of a rectangular zero padding), so rows-then-columns is
+// reused; the two orders differ by rounding only.
 template <typename T, int kChannels>
 void backward_band(const T* x, const T* y, const Saved<T>& saved, const Workspace<T>& ws,
                    int y0, const std::array<T, kSsimWindow>& w, T scale, T* v_x) {
