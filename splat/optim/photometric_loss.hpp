@@ -13,9 +13,10 @@ namespace splat {
 
 constexpr float kDefaultSsimWeight = 0.2f;  // λ
 
-// Reusable buffers so a training step allocates nothing after the first.
+// Reusable buffers so a training step allocates nothing after the first: SSIM's saved state
+// for the backward (three values per pixel and channel) and a small workspace per thread.
 struct SsimScratch {
-  std::vector<float> buffers;  // layout private to the implementation
+  std::vector<float> buffers;  // layout private to the implementation (ssim.cpp)
 };
 
 struct LossValue {
