@@ -61,8 +61,6 @@ class SplatTrainer {
   Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders = nullptr);
 
   int iteration() const { return iteration_; }  // iterations completed
-  // Whether iteration `iteration` (1-based) resets the opacities.
-  bool resets_opacity_at(int iteration) const { return density_.resets_opacity_at(iteration); }
   int active_sh_degree() const { return active_sh_degree_; }
   const GaussianModel& model() const { return model_; }
   // The parameters as of the last check that found every group finite.
