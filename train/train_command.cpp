@@ -82,7 +82,7 @@ class TrainingRun {
   int run();
 
  private:
-  void evaluate_and_record(double train_seconds);
+  void evaluate_and_record(double train_seconds, double recent_loss);
   void write_outputs(const GaussianModel& model, const std::string& stopped_by, double train_seconds);
   nlohmann::json metrics(const GaussianModel& model, const std::string& stopped_by, double train_seconds,
                          std::size_t model_bytes) const;
@@ -96,16 +96,19 @@ class TrainingRun {
   IterationTimings total_timings_;
   int timed_iterations_ = 0;
   double resumed_seconds_ = 0;  // training time before this process (when resuming)
+  double final_loss_ = 0;       // loss of the last iteration
 };
 
-void TrainingRun::evaluate_and_record(double train_seconds) {
+// `recent_loss` fills the entry's loss when the test point gets an entry of its own (the
+// contract wants a loss in every history entry): the mean loss since the previous entry.
+void TrainingRun::evaluate_and_record(double train_seconds, double recent_loss) {
   last_test_ = trainer_.evaluate(dataset_.test);
   if (!history_.empty() && history_.back()["iteration"] == trainer_.iteration()) {
     history_.back()["test_psnr"] = last_test_->psnr;
     history_.back()["test_ssim"] = last_test_->ssim;
   } else {
     history_.push_back({{"iteration", trainer_.iteration()}, {"seconds", train_seconds},
-                        {"num_gaussians", trainer_.model().size()},
+                        {"loss", recent_loss}, {"num_gaussians", trainer_.model().size()},
                         {"test_psnr", last_test_->psnr}, {"test_ssim", last_test_->ssim}});
   }
   char line[160];
@@ -146,6 +149,7 @@ int TrainingRun::run() {
   };
   auto wall_seconds = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   WindowAverages window;
+  double last_loss = 0;
   std::string stopped_by = "iterations";
   const int first_iteration = trainer_.iteration();
   try {
@@ -166,11 +170,12 @@ int TrainingRun::run() {
       const int next = trainer_.iteration() + 1;
       if (config.test_interval > 0 && next % config.test_interval == 0 && next < config.iterations) {
         const auto eval_start = Clock::now();
-        evaluate_and_record(train_seconds());
+        evaluate_and_record(train_seconds(), window.count > 0 ? window.loss / window.count : last_loss);
         eval_seconds += std::chrono::duration<double>(Clock::now() - eval_start).count();
       }
       const StepResult r = trainer_.step();
       window.add(r);
+      last_loss = r.loss;
       total_timings_.forward += r.timings.forward;
       total_timings_.loss += r.timings.loss;
       total_timings_.backward += r.timings.backward;
@@ -212,6 +217,7 @@ int TrainingRun::run() {
                 (options_.out / "model.ply").string());
   }
   progress_.finish();
+  final_loss_ = last_loss;
   const double seconds = train_seconds();
   if (stopped_by == "interrupt") {
     trainer_.save_checkpoint(options_.out / kCheckpointName);
@@ -254,7 +260,7 @@ void TrainingRun::write_outputs(const GaussianModel& model, const std::string& s
   last_test_ = trainer_.evaluate(dataset_.test, &renders);
   if (history_.empty() || history_.back()["iteration"] != trainer_.iteration())
     history_.push_back({{"iteration", trainer_.iteration()}, {"seconds", train_seconds},
-                        {"num_gaussians", model.size()}});
+                        {"loss", final_loss_}, {"num_gaussians", model.size()}});
   history_.back()["test_psnr"] = last_test_->psnr;
   history_.back()["test_ssim"] = last_test_->ssim;
   fs::create_directories(options_.out / "test");

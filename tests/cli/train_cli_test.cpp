@@ -56,6 +56,9 @@ TEST(TrainCli, TrainsAndWritesTheContractOutputs) {
   EXPECT_EQ(m.at("test").at("views").get<int>(), 3);
   const auto& history = m.at("history");
   ASSERT_GE(history.size(), 3u);
+  for (const auto& h : history)  // the contract's fields in every entry
+    for (const char* key : {"iteration", "seconds", "loss", "num_gaussians"})
+      EXPECT_TRUE(h.contains(key)) << key << " missing in " << h.dump();
   // The loss falls and the test PSNR rises.
   EXPECT_LT(history.back().at("loss").get<double>(), history.front().at("loss").get<double>() * 0.7);
   double first_psnr = 0;
