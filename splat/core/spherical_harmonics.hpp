@@ -86,7 +86,7 @@ inline glm::vec<3, T> sh_basis_vjp(int degree, const glm::vec<3, T>& dir, const 
 template <class T>
 inline glm::vec<3, T> sh_evaluate_vjp(int degree, const T* coeffs, const glm::vec<3, T>& dir,
                                       const glm::vec<3, T>& v_out, T* v_coeffs) {
-  T basis[16], v_basis[16];
+  T basis[16], v_basis[16] = {};  // zeroed: GCC cannot see that only [0, count) is read
   sh_basis(degree, dir, basis);
   const int count = (degree + 1) * (degree + 1);
   for (int k = 0; k < count; ++k) {
