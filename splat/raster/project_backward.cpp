@@ -64,8 +64,8 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
       const Mat3<float> cov3d = covariance_3d(scale, rotation);
       const Sym2<float> cov2d = covariance_2d(mean_camera, cov3d, world_to_camera, camera.fx,
                                               camera.fy, tan_fov_x, tan_fov_y);
-      Vec3<float> conic;
-      invert_covariance_2d(cov2d, conic);
+      Vec3<float> conic(0.0f);
+      if (!invert_covariance_2d(cov2d, conic)) continue;  // culled in the forward pass too
 
       // Opacity: o = sigmoid(logit), do/dlogit = o (1 − o).
       const float o = projected.splats[i].opacity;
