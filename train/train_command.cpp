@@ -93,8 +93,7 @@ class TrainingRun {
   ProgressReporter progress_;
   nlohmann::json history_ = nlohmann::json::array();
   std::optional<Evaluation> last_test_;
-  IterationTimings total_timings_;
-  int timed_iterations_ = 0;
+  WindowAverages whole_run_;  // sums over every iteration this process ran
   double resumed_seconds_ = 0;  // training time before this process (when resuming)
   double final_loss_ = 0;       // loss of the last iteration
 };
@@ -175,13 +174,8 @@ int TrainingRun::run() {
       }
       const StepResult r = trainer_.step();
       window.add(r);
+      whole_run_.add(r);
       last_loss = r.loss;
-      total_timings_.forward += r.timings.forward;
-      total_timings_.loss += r.timings.loss;
-      total_timings_.backward += r.timings.backward;
-      total_timings_.optimizer += r.timings.optimizer;
-      total_timings_.densify += r.timings.densify;
-      ++timed_iterations_;
       const int it = trainer_.iteration();
       if (it % kHistoryInterval == 0 || it == config.iterations) {
         history_.push_back({{"iteration", it}, {"seconds", train_seconds()},
@@ -245,7 +239,7 @@ nlohmann::json TrainingRun::metrics(const GaussianModel& model, const std::strin
     m["test"] = {{"psnr", last_test_->psnr}, {"ssim", last_test_->ssim}, {"views", last_test_->views}};
   m["history"] = history_;
   m["stopped_by"] = stopped_by;
-  m["ms_per_iteration"] = timings_json(total_timings_, timed_iterations_);
+  m["ms_per_iteration"] = timings_json(whole_run_.timings, whole_run_.count);
   m["peak_memory_bytes"] = peak_memory_bytes();
   m["threads"] = options_.threads > 0 ? options_.threads : tbb::info::default_concurrency();
   m["scene_extent"] = trainer_.scene_extent();
