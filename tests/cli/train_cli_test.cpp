@@ -17,10 +17,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// 12 training and 3 test views of the demo model at 64x64; cached across tests.
+// 12 training and 3 test views of the demo model at 64x64, written once per test. ctest runs
+// each test case as its own process, in parallel, so every test gets its own folder: a shared
+// one would be deleted and rewritten under a running neighbour.
 fs::path tiny_dataset() {
   static const fs::path dir = [] {
-    const fs::path d = test::scratch_dir("train_cli_dataset");
+    const std::string test_name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    const fs::path d = test::scratch_dir("train_cli_dataset_" + test_name);
     OrbitRig train_rig;
     train_rig.count = 12;
     train_rig.radius = 5.5f;
