@@ -37,7 +37,7 @@ struct Camera {
 // Builds the internal camera from a Blender / NeRF-synthetic camera-to-world matrix
 // (OpenGL axes: x right, y up, looking down -z): flip its y and z axes, then invert.
 // `camera_to_world_gl` is row-major as it appears in transforms JSON.
-Camera camera_from_blender(const float camera_to_world_gl[4][4], float fx, float fy, float cx,
+Camera camera_from_blender(const double camera_to_world_gl[4][4], float fx, float fy, float cx,
                            float cy, int width, int height);
 
 }  // namespace splat

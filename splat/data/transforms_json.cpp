@@ -43,7 +43,7 @@ struct Size {
 };
 
 struct RowMajor4x4 {
-  float m[4][4];
+  double m[4][4];
 };
 
 json parse_file(const fs::path& file) {
@@ -137,7 +137,7 @@ class FrameReader {
     check_rigid(m);
     RowMajor4x4 out{};
     for (std::size_t r = 0; r < 4; ++r)
-      for (std::size_t c = 0; c < 4; ++c) out.m[r][c] = float(m[r][c]);
+      for (std::size_t c = 0; c < 4; ++c) out.m[r][c] = m[r][c];
     return out;
   }
 

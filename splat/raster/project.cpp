@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include "splat/core/spherical_harmonics.hpp"
+#include "splat/raster/pixel_projection.hpp"
 #include "splat/raster/projection_math.hpp"
 
 namespace splat {
@@ -57,6 +58,7 @@ void project_gaussians(const GaussianModel& model, const Camera& camera, int sh_
   const int coeffs_per_gaussian = model.sh_coefficients() * 3;
   const glm::vec3 camera_center = camera.center_in_world();
   const float tan_fov_x = camera.tan_half_fov_x(), tan_fov_y = camera.tan_half_fov_y();
+  const PixelProjection pixel_of(camera);
 
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
@@ -75,7 +77,7 @@ void project_gaussians(const GaussianModel& model, const Camera& camera, int sh_
                                               camera.fx, camera.fy, tan_fov_x, tan_fov_y);
       Vec3<float> conic;
       if (!invert_covariance_2d(cov2d, conic)) continue;
-      const Vec2<float> center = project_to_pixel(mean_camera, camera.fx, camera.fy, camera.cx, camera.cy);
+      const Vec2<float> center = pixel_of(mean);
       // Non-finite or absurd footprints (NaN parameters, scales overflowing exp) would make
       // the integer tile arithmetic below undefined; they cannot be drawn, so they are culled.
       constexpr float kMaxFootprint = 1e7f;

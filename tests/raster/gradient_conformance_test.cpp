@@ -1,6 +1,7 @@
 // Gradient conformance with the official CUDA rasterizer + PyTorch autograd
 // (../shared/conformance/gradients): for view r_0 of the 50k-Gaussian lego model and
-// L = Σ W·I, our ∂L/∂θ per parameter group within 1e-3 (relative L2) and L within 1e-4.
+// L = Σ W·I: our unclamped image within 1e-4 of theirs at every pixel, L within 1e-4
+// (relative) and ∂L/∂θ per parameter group within 1e-3 (relative L2).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -29,7 +30,9 @@ TEST(GradientConformance, MatchesOfficialGradientsForViewR0) {
   const Camera camera = load_transforms(dir / "transforms_test.json", size).at(0).camera;
   const std::vector<float> weights = read_f32(dir / "gradients" / "W_r_0.f32");  // [3, H, W]
   const std::vector<float> reference = read_f32(dir / "gradients" / "grad_r_0.f32");  // [N, 59]
+  const std::vector<float> their_image = read_f32(dir / "gradients" / "I_r_0.f32");  // [3, H, W]
   ASSERT_EQ(weights.size(), 3u * 400 * 400);
+  ASSERT_EQ(their_image.size(), 3u * 400 * 400);
   ASSERT_EQ(reference.size(), model.size() * 59);
 
   RenderSettings settings;  // white background, SH degree 3
@@ -44,6 +47,16 @@ TEST(GradientConformance, MatchesOfficialGradientsForViewR0) {
       v_color.data[3 * p + c] = weights[c * 160000 + p];
       loss += double(weights[c * 160000 + p]) * forward.color.data[3 * p + c];
     }
+  std::size_t pixels_off = 0;
+  double worst = 0;
+  for (int c = 0; c < 3; ++c)
+    for (std::size_t p = 0; p < 400 * 400; ++p) {
+      const double error = std::abs(double(forward.color.data[3 * p + c]) - their_image[c * 160000 + p]);
+      worst = std::max(worst, error);
+      pixels_off += error > 1e-4;
+    }
+  std::printf("image: largest difference %.3e, %zu values beyond 1e-4\n", worst, pixels_off);
+  EXPECT_EQ(pixels_off, 0u) << "largest difference " << worst;
   constexpr double kReferenceLoss = -256.915888;  // from the gradients README (float64 sum)
   EXPECT_NEAR(loss, kReferenceLoss, 1e-4 * std::abs(kReferenceLoss));
 

@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
+#include "splat/raster/pixel_projection.hpp"
 #include "splat/raster/project.hpp"
 #include "splat/raster/projection_math.hpp"
 #include "test_support.hpp"
@@ -98,6 +100,30 @@ TEST(Projection, PixelPositionUsesReferencePixelCentres) {
   const Vec2<double> q = project_to_pixel(Vec3<double>(1, -2, 4), 100.0, 50.0, 200.0, 150.0);
   EXPECT_DOUBLE_EQ(q.x, 100.0 * 0.25 + 199.5);
   EXPECT_DOUBLE_EQ(q.y, 50.0 * -0.5 + 149.5);
+}
+
+// PixelProjection follows the official rounding; it must still be the same function as
+// project_to_pixel (which the backward pass differentiates), for centred and off-centre
+// principal points, up to float rounding.
+TEST(Projection, ReferenceArithmeticPixelMatchesTheDirectFormula) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> coord(-1.5f, 1.5f);
+  for (const float cx_offset : {0.0f, 13.25f}) {
+    Camera camera = test::looking_at_origin(320, 240, 4.0f, 0.9f);
+    camera.cx += cx_offset;
+    camera.cy -= 0.5f * cx_offset;
+    const PixelProjection pixel_of(camera);
+    for (int i = 0; i < 1000; ++i) {
+      const glm::vec3 p(coord(rng), coord(rng), coord(rng));
+      const glm::dvec3 pc = glm::dmat3(camera.camera_from_world_rotation) * glm::dvec3(p) +
+                            glm::dvec3(camera.camera_from_world_translation);
+      const Vec2<double> exact = project_to_pixel(pc, double(camera.fx), double(camera.fy),
+                                                  double(camera.cx), double(camera.cy));
+      const Vec2<float> ours = pixel_of(p);
+      EXPECT_NEAR(ours.x, exact.x, 1e-4) << i;
+      EXPECT_NEAR(ours.y, exact.y, 1e-4) << i;
+    }
+  }
 }
 
 TEST(Projection, ConicAndRadius) {
