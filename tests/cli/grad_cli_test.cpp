@@ -27,7 +27,7 @@ std::string grad_command(const std::string& overrides_view, const std::string& w
 TEST(GradCli, MatchesOfficialGradientsThroughTheContract) {
   const fs::path dir = test::scratch_dir("grad_cli_conformance");
   const auto r = test::run_command(grad_command("--view 0", conformance("gradients/W_r_0.f32"), dir / "g.f32") +
-                                       " --compare " + conformance("gradients/grad_r_0.f32"),
+                                       " --compare " + conformance("gradients/grad_r_0.f32") + " --bench 2",
                                    dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(fs::file_size(dir / "g.f32"), 50000u * 59 * 4);
@@ -42,6 +42,7 @@ TEST(GradCli, MatchesOfficialGradientsThroughTheContract) {
     ++groups;
   }
   EXPECT_EQ(groups, 6);
+  EXPECT_NE(r.out.find("bench 2 pairs: forward median "), std::string::npos) << r.out;
 }
 
 TEST(GradCli, BadInputsFailCleanly) {
@@ -61,6 +62,7 @@ TEST(GradCli, BadInputsFailCleanly) {
            (dir / "g.f32").string(),
        "/nonexistent.ply"},
       {grad_command("", good_weights, dir / "g.f32"), "--view"},
+      {grad_command("--view 0 --bench 0", good_weights, dir / "g.f32"), "--bench"},
   };
   for (const Case& c : cases) {
     const auto r = test::run_command(c.command, dir);

@@ -1,10 +1,11 @@
 // splat-grad --model PLY --cameras TRANSFORMS.json --view K --width W --height H --bg R,G,B
-//            --weights W.f32 --out G.f32 [--image I.f32] [--compare G_REF.f32]
+//            --weights W.f32 --out G.f32 [--image I.f32] [--compare G_REF.f32] [--bench N]
 //
 // Renders view K, forms L = Σ W·I over the unclamped image I (W raw float32 [3, H, W]), and
 // writes ∂L/∂θ for the raw stored parameters as raw float32 [N, 59] in PLY property order
 // without the normals. Its last line is {"loss": L}. With --compare it also prints, per
 // parameter group, ‖g − g_ref‖ / ‖g_ref‖ against another implementation's gradients.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -27,7 +28,7 @@ namespace {
 
 constexpr const char* kUsage = R"(usage: splat-grad --model PLY --cameras TRANSFORMS.json --view K
                   --width W --height H --bg R,G,B --weights W.f32 --out G.f32
-                  [--image I.f32] [--compare G_REF.f32]
+                  [--image I.f32] [--compare G_REF.f32] [--bench N]
 
 Renders view K of the transforms file, forms L = sum(W * I) over the unclamped image I
 (W: raw little-endian float32, shape [3, H, W]) and writes dL/dtheta for every raw stored
@@ -39,6 +40,8 @@ parameter as raw float32 [N, 59] in PLY property order without the normals
                        as the official CUDA rasterizer does (default), or use the exact
                        derivative, zero (what splat-train uses)
   --compare G_REF.f32  print per parameter group ||g - g_ref|| / ||g_ref||
+  --bench N            after the run, time N more forward+backward pairs (warm buffers) and
+                       print the medians and the median backward/forward ratio
 )";
 
 std::vector<float> read_floats(const fs::path& file, std::size_t expected_count,
@@ -71,13 +74,19 @@ double ms_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   return splat::cli::run_main([&] {
     splat::cli::ArgParser args(argc, argv,
                                {"model", "cameras", "view", "width", "height", "bg", "weights",
-                                "out", "image", "compare", "alpha-clamp-gradient"},
+                                "out", "image", "compare", "alpha-clamp-gradient", "bench"},
                                {"help"});
     if (args.has("help")) {
       std::fputs(kUsage, stdout);
@@ -93,6 +102,8 @@ int main(int argc, char** argv) {
     size.height = args.integer("height").value_or(0);
     if (size.width <= 0 || size.height <= 0 || size.width > 16384 || size.height > 16384)
       throw splat::ArgumentError("--width and --height are required, in 1..16384");
+    const std::optional<int> bench = args.integer("bench");
+    if (bench && (*bench < 1 || *bench > 100000)) throw splat::ArgumentError("--bench must be in 1..100000");
     const auto bg = args.float_list("bg", 3);
     if (!bg) throw splat::ArgumentError("missing required option --bg");
 
@@ -154,6 +165,22 @@ int main(int argc, char** argv) {
     std::printf("view %d (%s), %zu Gaussians, %dx%d: forward %.2f ms, backward %.2f ms (x%.2f)\n",
                 view, frames[std::size_t(view)].name.c_str(), model.size(), w, h, forward_ms,
                 backward_ms, backward_ms / forward_ms);
+    if (bench) {
+      // The first pair above allocated the buffers; these reuse them, as training does.
+      std::vector<double> forward_times, backward_times, ratios;
+      for (int i = 0; i < *bench; ++i) {
+        start = std::chrono::steady_clock::now();
+        rasterizer.render(model, camera, settings, result);
+        forward_times.push_back(ms_since(start));
+        start = std::chrono::steady_clock::now();
+        rasterizer.backward(model, camera, settings, result, v_color, grads);
+        backward_times.push_back(ms_since(start));
+        ratios.push_back(backward_times.back() / forward_times.back());
+      }
+      std::printf("bench %d pairs: forward median %.2f ms, backward median %.2f ms, "
+                  "backward/forward median %.2f\n",
+                  *bench, median(forward_times), median(backward_times), median(ratios));
+    }
     if (!reference.empty())
       for (const auto& group : splat::cli::compare_gradient_groups(table, reference, model.sh_degree))
         std::printf("group %-8s |g_ref| %.6g  relative error %.3e\n", group.name.c_str(),
