@@ -17,4 +17,16 @@ struct Image {
   std::size_t pixel_count() const { return std::size_t(width) * height; }
 };
 
+// An RGBA image with straight (unpremultiplied) alpha, as PNG stores it, seen over a
+// background: rgb·a + bg·(1 − a). Datasets and image comparisons both need exactly this.
+inline Image composite_onto(const Image& rgba, const float background[3]) {
+  Image rgb(rgba.width, rgba.height, 3);
+  for (std::size_t p = 0; p < rgba.pixel_count(); ++p) {
+    const float* in = &rgba.data[p * 4];
+    const float alpha = in[3];
+    for (int c = 0; c < 3; ++c) rgb.data[p * 3 + c] = in[c] * alpha + background[c] * (1.0f - alpha);
+  }
+  return rgb;
+}
+
 }  // namespace splat

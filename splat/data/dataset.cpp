@@ -31,14 +31,7 @@ Image read_rgb(const fs::path& file, int width, int height, const std::string& s
   if (image.channels != 4)
     throw InputError(file, "expected an RGB or RGBA image, not " +
                                std::to_string(image.channels) + " channels");
-  Image rgb(image.width, image.height, 3);
-  for (std::size_t p = 0; p < image.pixel_count(); ++p) {
-    const float* in = &image.data[p * 4];
-    const float alpha = in[3];
-    for (int c = 0; c < 3; ++c)
-      rgb.data[p * 3 + c] = in[c] * alpha + background[c] * (1.0f - alpha);
-  }
-  return rgb;
+  return composite_onto(image, background);
 }
 
 void downscale_view(DatasetView& view, int downscale, const fs::path& file) {

@@ -94,7 +94,7 @@ TEST(ProjectionVjp, ConicFromCovariance) {
     std::vector<D> x = {2.0 + r[0] * r[0], 0.5 * r[1], 1.0 + r[2] * r[2]};  // SPD
     if (seed == 4) x = {400.0, 0.0, 0.31};  // very flat on screen
     auto f = [](const std::vector<D>& in) {
-      Vec3<D> conic;
+      Vec3<D> conic(0.0);  // (set by the call; initialised for GCC 12's -Wmaybe-uninitialized)
       invert_covariance_2d(Sym2<D>{in[0], in[1], in[2]}, conic);
       return std::vector<D>{conic.x, conic.y, conic.z};
     };

@@ -1,8 +1,10 @@
-// splat-psnr A B: PSNR between two images, or between same-named PNGs of two folders
-// (one line per image, then the minimum and mean). Used for the conformance protocol (P2):
-//   splat-psnr OUT ../shared/conformance/reference
+// splat-psnr A B [--bg R,G,B]: PSNR between two images, or between same-named PNGs of two
+// folders (one line per image, then the minimum and mean). Used for the conformance protocol
+// (P2): splat-psnr OUT ../shared/conformance/reference. With --bg, RGBA images (a dataset's
+// test images) are composited onto that background first, as the trainers see them.
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <vector>
 
 #include "common/arg_parser.hpp"
@@ -15,33 +17,37 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Colour channels only: an alpha channel is not part of the picture's PSNR.
-splat::Image rgb_of(const splat::Image& image) {
-  if (image.channels == 3) return image;
+// Colour channels only: without a background, an alpha channel is not part of the
+// picture's PSNR; with one, the picture is what shows over it.
+splat::Image rgb_of(const splat::Image& image, const std::optional<std::vector<float>>& background) {
   if (image.channels != 4) return image;
+  if (background) return splat::composite_onto(image, background->data());
   splat::Image rgb(image.width, image.height, 3);
   for (std::size_t p = 0; p < image.pixel_count(); ++p)
     for (int c = 0; c < 3; ++c) rgb.data[3 * p + c] = image.data[4 * p + c];
   return rgb;
 }
 
-double psnr_of_files(const fs::path& a, const fs::path& b) {
-  return splat::psnr(rgb_of(splat::read_image(a)), rgb_of(splat::read_image(b)));
+double psnr_of_files(const fs::path& a, const fs::path& b,
+                     const std::optional<std::vector<float>>& background) {
+  return splat::psnr(rgb_of(splat::read_image(a), background), rgb_of(splat::read_image(b), background));
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   return splat::cli::run_main([&] {
-    splat::cli::ArgParser args(argc, argv, {}, {"help"});
+    splat::cli::ArgParser args(argc, argv, {"bg"}, {"help"});
     if (args.has("help") || args.positionals().size() != 2) {
-      std::fputs("usage: splat-psnr A B   (two images, or two folders of same-named PNGs)\n",
+      std::fputs("usage: splat-psnr A B [--bg R,G,B]   (two images, or two folders of same-named\n"
+                 "       PNGs; --bg composites RGBA images onto that background first)\n",
                  args.has("help") ? stdout : stderr);
       return args.has("help") ? 0 : 2;
     }
     const fs::path a = args.positionals()[0], b = args.positionals()[1];
+    const std::optional<std::vector<float>> background = args.float_list("bg", 3);
     if (!fs::is_directory(a)) {
-      std::printf("%.3f\n", psnr_of_files(a, b));
+      std::printf("%.3f\n", psnr_of_files(a, b, background));
       return 0;
     }
     std::vector<fs::path> names;
@@ -52,7 +58,7 @@ int main(int argc, char** argv) {
     double minimum = 1e300, sum = 0;
     for (const fs::path& name : names) {
       if (!fs::exists(b / name)) throw splat::InputError(b / name, "no image of that name to compare with");
-      const double db = psnr_of_files(a / name, b / name);
+      const double db = psnr_of_files(a / name, b / name, background);
       std::printf("%s %.3f dB\n", name.string().c_str(), db);
       minimum = std::min(minimum, db);
       sum += db;
