@@ -98,7 +98,7 @@ TEST(ProjectionVjp, ConicFromCovariance) {
       invert_covariance_2d(Sym2<D>{in[0], in[1], in[2]}, conic);
       return std::vector<D>{conic.x, conic.y, conic.z};
     };
-    Vec3<D> conic;
+    Vec3<D> conic(0.0);
     invert_covariance_2d(Sym2<D>{x[0], x[1], x[2]}, conic);
     const std::vector<D> v = random_vector(3, seed + 10);
     const Sym2<D> g = invert_covariance_2d_vjp(conic, Vec3<D>(v[0], v[1], v[2]));
