@@ -2,34 +2,38 @@
 // One NeRF ray through the shared compositor (splat/composite.hpp), forward and backward,
 // templated on the float type so the gradient tests run it in double.
 //
-// The NeRF's own rule is only α = 1 − exp(−σδ), unclamped and with no small-α skip: the
-// rasterizer's α rules (skip α < 1/255, clamp α ≤ 0.99) live in the rasterizer, not in the
-// compositor. What the compositor does for both is the sum C = Σ Tᵢαᵢcᵢ + T_N·bg and the
-// early stop: a sample that would take T below kMinTransmittance is not blended and ends
-// the ray. Because no sample is skipped, the blended samples of a ray are always a prefix
-// of its list: [0, blended_count).
-//
-// Caveat of the shared early stop with unclamped α: a single sample with α > 1 − 1e-4
-// (σδ > 9.2) at full transmittance is not blended at all (the ray stops in front of it and
-// shows the background through T = 1), and receives no gradient. The rasterizer never
-// meets this because its α ≤ 0.99.
+// The NeRF's own rule is α = min(0.99, 1 − exp(−σδ)) with no small-α skip (the skip at
+// 1/255 is the rasterizer's alone; the cap is shared, see density_to_alpha). What the
+// compositor does for both is the sum C = Σ Tᵢαᵢcᵢ + T_N·bg and the early stop: a sample
+// that would take T below kMinTransmittance is not blended and ends the ray. Because no
+// sample is skipped, the blended samples of a ray are always a prefix of its list:
+// [0, blended_count).
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 
 #include "splat/composite.hpp"
+#include "splat/raster/raster_constants.hpp"
 
 namespace splat {
 
-// α = 1 − exp(−σδ), as −expm1(−σδ) so that small σδ keep their digits.
+// α = min(kMaxAlpha, 1 − exp(−σδ)), the exponential as −expm1(−σδ) so that small σδ keep
+// their digits. The cap is the rasterizer's, and for the same reason: the compositor stops
+// *before* a sample that would take T below kMinTransmittance, so an unclamped opaque sample
+// (σδ > 9.2) met at T = 1 would never be blended: the ray would show the background behind
+// a solid surface, and that sample would get no gradient to learn otherwise. With α ≤ 0.99
+// two opaque samples take T to 1e-4 and the surface shows.
 template <class F>
 inline F density_to_alpha(F sigma, F delta) {
-  return -std::expm1(-sigma * delta);
+  return std::min(F(kMaxAlpha), F(-std::expm1(-sigma * delta)));
 }
 
-// ∂α/∂σ = δ·exp(−σδ) (= δ(1 − α)). δ is a constant: no gradient to sample positions.
+// ∂α/∂σ = δ·exp(−σδ) (= δ(1 − α)) below the cap, zero where the cap holds (as the splat
+// trainer's exact gradient at the same clamp). δ is a constant: no gradient to positions.
 template <class F>
 inline F density_to_alpha_vjp(F sigma, F delta, F v_alpha) {
+  if (-std::expm1(-sigma * delta) > F(kMaxAlpha)) return F(0);
   return v_alpha * delta * std::exp(-sigma * delta);
 }
 

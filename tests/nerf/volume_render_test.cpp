@@ -92,6 +92,25 @@ DoubleRay ray_with_lengths(const std::vector<double>& delta) {
   return ray;
 }
 
+// A solid surface: one sample with σδ = 50 would take T below the floor at once, and the
+// shared early stop would then skip it (the ray showing the background). With α capped at
+// 0.99 it is blended, and its neighbour behind it too: the surface shows.
+TEST(NerfVolume, OpaqueSampleIsCappedAndTheSurfaceShows) {
+  EXPECT_FLOAT_EQ(density_to_alpha(50.0f, 1.0f), 0.99f);
+  EXPECT_EQ(density_to_alpha_vjp(50.0f, 1.0f, 1.0f), 0.0f);  // clamped: no gradient
+  EXPECT_GT(density_to_alpha_vjp(1.0f, 1.0f, 1.0f), 0.0f);
+  const std::vector<std::uint32_t> offsets = {0, 3};
+  const std::vector<float> t = {1.0f, 2.0f, 3.0f}, delta = {1.0f, 1.0f, 1.0f};
+  const std::vector<float> sigma = {50.0f, 50.0f, 50.0f};
+  const std::vector<float> rgb = {0.2f, 0.4f, 0.6f, 0.2f, 0.4f, 0.6f, 0.9f, 0.9f, 0.9f};
+  VolumeRenderResult out;
+  volume_render({offsets, t, delta}, sigma, rgb, kBackground, out);
+  EXPECT_GE(out.blended_count[0], 1u);
+  EXPECT_LE(out.final_transmittance[0], 0.01f);
+  EXPECT_NEAR(out.color[0], 0.2, 0.01);
+  EXPECT_NEAR(out.color[2], 0.6, 0.01);
+}
+
 TEST(NerfVolume, BackwardMatchesFiniteDifferencesInDouble) {
   for (unsigned seed = 1; seed <= 5; ++seed) {
     const int n = 7;
