@@ -238,11 +238,15 @@ DensityControlReport DensityControl::densify_and_prune(GaussianModel& model, Ada
 DensityControlReport DensityControl::step(int iteration, GaussianModel& model, AdamState& adam,
                                           std::span<const float> view_grad_norms,
                                           std::span<const std::int32_t> radii,
-                                          float scene_extent, std::mt19937& rng) {
+                                          float scene_extent, std::mt19937& rng, bool stats_only) {
   DensityControlReport report;
   const DensityControlSettings& s = settings_;
   if (iteration < s.densify_until_iter) {
     add_stats(view_grad_norms, radii);
+    if (stats_only) {
+      report.count_after = model.size();
+      return report;
+    }
     if (iteration > s.densify_from_iter && iteration % s.densification_interval == 0) {
       // Screen and world size limits start after the first opacity reset.
       const std::optional<float> size_threshold =

@@ -98,11 +98,13 @@ class DensityControl {
   // (from 1): stats, then densify_and_prune on the schedule, then the opacity reset.
   // view_grad_norms[i] is ‖∂L/∂(mean2D_i)‖ with the 2D mean in NDC-scaled units as the
   // official rasterizer reports it; radii[i] the screen radius (0 when not visible).
-  // `rng` drives the split samples and is used only when something splits.
+  // `rng` drives the split samples and is used only when something splits. With
+  // `stats_only` (the run's last iteration) the statistics are gathered but nothing is
+  // densified, pruned or reset.
   DensityControlReport step(int iteration, GaussianModel& model, AdamState& adam,
                             std::span<const float> view_grad_norms,
                             std::span<const std::int32_t> radii, float scene_extent,
-                            std::mt19937& rng);
+                            std::mt19937& rng, bool stats_only = false);
 
   // True when step(iteration, ...) will reset the opacities (callers that evaluate the model
   // avoid scoring it right after a reset, when everything is nearly transparent).

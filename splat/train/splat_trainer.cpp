@@ -120,8 +120,14 @@ StepResult SplatTrainer::step() {
   result.timings.backward = ms_since(start);
 
   start = Clock::now();
+  // The run's last iteration neither densifies nor resets opacities: the official trainer
+  // saves and scores its model at iteration N before that iteration's density control, and
+  // fresh clones and splits that never get a step only depress the result. (Extending a
+  // finished run with --resume and more iterations therefore misses that one densification;
+  // the statistics are still gathered.)
   result.density = density_.step(iteration, model_, adam_, grads_.viewspace_grad_norm,
-                                 rasterizer_.projected().radius, scene_extent_, rng_);
+                                 rasterizer_.projected().radius, scene_extent_, rng_,
+                                 /*stats_only=*/iteration == config_.iterations);
   result.timings.densify = ms_since(start);
 
   start = Clock::now();

@@ -431,6 +431,27 @@ TEST(DensityControl, FollowsTheOfficialIterationSchedule) {
   }
 }
 
+// The run's last iteration: statistics as usual, but no densification and no reset, even
+// on an iteration that would do both.
+TEST(DensityControl, StatsOnlyStepChangesNothing) {
+  DensityControlSettings settings;
+  Fixture f(2, settings);
+  std::mt19937 rng(18);
+  const std::vector<float> norms = {kBigGrad, kBigGrad};
+  const std::vector<std::int32_t> radii = {3, 3};
+  const GaussianModel before = f.model;
+  const int both = 3000;  // a densification and an opacity reset
+  const DensityControlReport report =
+      f.control.step(both, f.model, f.adam, norms, radii, kExtent, rng, /*stats_only=*/true);
+  EXPECT_FALSE(report.densified);
+  EXPECT_FALSE(report.opacity_reset);
+  EXPECT_EQ(report.count_after, 2u);
+  EXPECT_EQ(f.model.opacity_logits, before.opacity_logits);
+  EXPECT_EQ(f.control.stats().denom[0], 1.0f);
+  // The same step without the flag does densify (the case above is not vacuous).
+  EXPECT_TRUE(f.control.step(both, f.model, f.adam, norms, radii, kExtent, rng).densified);
+}
+
 TEST(DensityControl, GathersStatsOnlyBeforeDensifyUntil) {
   DensityControlSettings settings;
   Fixture f(2, settings);
