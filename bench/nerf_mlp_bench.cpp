@@ -1,0 +1,118 @@
+// splat-nerf-mlp-bench: time of the NeRF MLP on one batch, forward alone and forward +
+// backward (parameter gradients only, as training runs it), for the paper's network and a
+// small one (depth 4, width 128, skip at layer 2). Prints one JSON line with the medians
+// over --repeats calls after one warm-up call, the minimum for reference, and the GEMM rate
+// (2 flops per weight per sample forward, twice that again backward).
+//   build/bench/splat-nerf-mlp-bench [--samples 65536] [--threads N] [--repeats 5]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <tbb/global_control.h>
+
+#include "common/arg_parser.hpp"
+#include "common/run_main.hpp"
+#include "splat/core/error.hpp"
+#include "splat/nerf/nerf_mlp.hpp"
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+struct Timing {
+  double forward_ms, forward_min_ms, forward_backward_ms, forward_backward_min_ms;
+};
+
+Timing time_network(const splat::NerfMlpConfig& config, std::size_t samples, int repeats) {
+  const splat::NerfMlp mlp(config, 1);
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
+  std::vector<float> positions(3 * samples), directions(3 * samples), v_sigma(samples),
+      v_rgb(3 * samples);
+  for (float& x : positions) x = uniform(rng);
+  for (std::size_t i = 0; i < samples; ++i) {  // any unit vector will do
+    directions[3 * i + 2] = 1.0f;
+  }
+  for (float& x : v_sigma) x = uniform(rng);
+  for (float& x : v_rgb) x = uniform(rng);
+  std::vector<float> sigma(samples), rgb(3 * samples), v_params(mlp.parameter_count());
+  splat::NerfMlpContext context;
+
+  using Clock = std::chrono::steady_clock;
+  const auto ms = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+  };
+  std::vector<double> forward, forward_backward;
+  for (int i = 0; i < 1 + repeats; ++i) {  // the first call sizes the context
+    const auto t0 = Clock::now();
+    mlp.forward(positions, directions, sigma, rgb, context);
+    const auto t1 = Clock::now();
+    std::fill(v_params.begin(), v_params.end(), 0.0f);
+    mlp.forward(positions, directions, sigma, rgb, context);
+    mlp.backward(context, v_sigma, v_rgb, v_params);
+    const auto t2 = Clock::now();
+    if (i == 0) continue;
+    forward.push_back(ms(t0, t1));
+    forward_backward.push_back(ms(t1, t2));
+  }
+  return {median(forward), *std::min_element(forward.begin(), forward.end()),
+          median(forward_backward),
+          *std::min_element(forward_backward.begin(), forward_backward.end())};
+}
+
+std::string json(const char* name, const splat::NerfMlpConfig& config, std::size_t samples,
+                 const Timing& t) {
+  const double params = double(splat::NerfMlp(config).parameter_count());
+  const double forward_gflop = 2.0 * params * double(samples) * 1e-9;
+  char buffer[512];
+  std::snprintf(buffer, sizeof buffer,
+                "\"%s\": {\"depth\": %d, \"width\": %d, \"parameters\": %.0f, "
+                "\"ms_forward\": %.1f, \"ms_forward_min\": %.1f, \"ms_forward_backward\": %.1f, "
+                "\"ms_forward_backward_min\": %.1f, \"gflops_forward\": %.1f, "
+                "\"gflops_forward_backward\": %.1f}",
+                name, config.depth, config.width, params, t.forward_ms, t.forward_min_ms,
+                t.forward_backward_ms, t.forward_backward_min_ms,
+                forward_gflop / (t.forward_ms * 1e-3),
+                3 * forward_gflop / (t.forward_backward_ms * 1e-3));
+  return buffer;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return splat::cli::run_main([&] {
+    splat::cli::ArgParser args(argc, argv, {"samples", "threads", "repeats"}, {"help"});
+    if (args.has("help")) {
+      std::puts("usage: splat-nerf-mlp-bench [--samples N] [--threads N] [--repeats N]");
+      return 0;
+    }
+    const int samples = args.integer("samples").value_or(65536);
+    const int repeats = args.integer("repeats").value_or(5);
+    const int threads = args.integer("threads").value_or(0);  // 0: oneTBB's default
+    if (samples <= 0 || repeats <= 0 || threads < 0)
+      throw splat::ArgumentError("--samples and --repeats must be positive");
+    std::unique_ptr<tbb::global_control> limit;
+    if (threads > 0)
+      limit = std::make_unique<tbb::global_control>(
+          tbb::global_control::max_allowed_parallelism, threads);
+
+    const splat::NerfMlpConfig paper;
+    splat::NerfMlpConfig small;
+    small.depth = 4;
+    small.width = 128;
+    small.skip_layer = 2;
+    const Timing paper_time = time_network(paper, std::size_t(samples), repeats);
+    const Timing small_time = time_network(small, std::size_t(samples), repeats);
+    std::printf("{\"samples\": %d, \"threads\": %d, \"repeats\": %d, %s, %s}\n", samples,
+                threads, repeats, json("default", paper, samples, paper_time).c_str(),
+                json("small", small, samples, small_time).c_str());
+    return 0;
+  });
+}

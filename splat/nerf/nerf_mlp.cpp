@@ -1,0 +1,391 @@
+#include "splat/nerf/nerf_mlp.hpp"
+
+// First: it must precede oneTBB's headers (see eigen_core.hpp).
+#include "splat/nerf/eigen_core.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "splat/core/error.hpp"
+#include "splat/core/random.hpp"
+#include "splat/nerf/dense_layer.hpp"
+#include "splat/nerf/positional_encoding.hpp"
+
+namespace splat {
+namespace {
+
+using nerf_detail::Activation;
+using nerf_detail::ConstMatrixRef;
+using nerf_detail::MatrixRef;
+
+// Samples per task. Fixed, so chunk boundaries (hence every GEMM's shape and rounding) do
+// not depend on the thread count; 256 columns of 256 floats is 256 KB per activation
+// block, so a layer's input and output stay in a core's L2.
+constexpr std::size_t kSamplesPerChunk = 256;
+// Chunks whose parameter gradients are in flight at once, each in its own buffer
+// (parameter_count floats: 2.4 MB for the defaults). A fixed number, not one per thread,
+// so the order of the additions is the same for any thread count.
+constexpr std::size_t kChunksPerGroup = 8;
+// Parameters per task when the partial gradients are added together.
+constexpr std::size_t kParametersPerReduceTask = 16384;
+
+template <typename Scalar>
+using Map = Eigen::Map<nerf_detail::Matrix<Scalar>>;
+template <typename Scalar>
+using ConstMap = Eigen::Map<const nerf_detail::Matrix<Scalar>>;
+template <typename Scalar>
+using VectorMap = Eigen::Map<nerf_detail::Vector<Scalar>>;
+template <typename Scalar>
+using ConstVectorMap = Eigen::Map<const nerf_detail::Vector<Scalar>>;
+
+// W and b of `layer` inside a parameter-shaped buffer (the parameters or a gradient).
+template <typename Scalar>
+ConstMap<Scalar> weight(const Scalar* base, const NerfLayerShape& layer) {
+  return ConstMap<Scalar>(base + layer.offset, layer.out, layer.in);
+}
+template <typename Scalar>
+ConstVectorMap<Scalar> bias(const Scalar* base, const NerfLayerShape& layer) {
+  return ConstVectorMap<Scalar>(base + layer.offset + std::size_t(layer.out) * layer.in,
+                                layer.out);
+}
+template <typename Scalar>
+Map<Scalar> weight(Scalar* base, const NerfLayerShape& layer) {
+  return Map<Scalar>(base + layer.offset, layer.out, layer.in);
+}
+template <typename Scalar>
+VectorMap<Scalar> bias(Scalar* base, const NerfLayerShape& layer) {
+  return VectorMap<Scalar>(base + layer.offset + std::size_t(layer.out) * layer.in, layer.out);
+}
+
+// Columns [first, first + count) of a [rows, capacity] block starting at `block`.
+template <typename Scalar>
+Map<Scalar> columns(Scalar* block, int rows, std::size_t first, std::size_t count) {
+  return Map<Scalar>(block + std::size_t(rows) * first, rows, Eigen::Index(count));
+}
+template <typename Scalar>
+ConstMap<Scalar> columns(const Scalar* block, int rows, std::size_t first, std::size_t count) {
+  return ConstMap<Scalar>(block + std::size_t(rows) * first, rows, Eigen::Index(count));
+}
+
+// Rows of one chunk's cotangent scratch (backward_chunk lays them out): two ping-pong
+// [width] blocks for the trunk, the colour hidden layer, rgb, density, and γ(x).
+std::size_t cotangent_rows(const NerfMlpConfig& c) {
+  return std::size_t(2 * c.width + c.color_width + 3 + 1 + encoded_size(c.position_frequencies));
+}
+
+std::size_t chunk_count(std::size_t samples) {
+  return (samples + kSamplesPerChunk - 1) / kSamplesPerChunk;
+}
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw ArgumentError("NeRF MLP: " + message);
+}
+
+}  // namespace
+
+void validate(const NerfMlpConfig& c) {
+  const auto check = [](bool ok, const char* what) {
+    if (!ok) throw ArgumentError(std::string("NeRF MLP config: ") + what);
+  };
+  check(c.position_frequencies >= 0 && c.position_frequencies <= kMaxEncodingFrequencies,
+        "position_frequencies must be in [0, 24]");
+  check(c.direction_frequencies >= 0 && c.direction_frequencies <= kMaxEncodingFrequencies,
+        "direction_frequencies must be in [0, 24]");
+  check(c.depth >= 1, "depth must be at least 1");
+  check(c.width >= 1 && c.color_width >= 1, "width and color_width must be positive");
+  // Layer 0 already takes γ(x) alone; a skip there would only duplicate its input.
+  check(c.skip_layer == -1 || (c.skip_layer >= 1 && c.skip_layer < c.depth),
+        "skip_layer must be -1 or in [1, depth - 1]");
+  check(c.density_activation == DensityActivation::kSoftplus ||
+            c.density_activation == DensityActivation::kRelu,
+        "unknown density activation");
+}
+
+template <typename Scalar>
+BasicNerfMlp<Scalar>::BasicNerfMlp(const NerfMlpConfig& config, std::uint32_t seed)
+    : config_(config) {
+  validate(config_);
+  const int ex = encoded_size(config_.position_frequencies);
+  const int ed = encoded_size(config_.direction_frequencies);
+  const int w = config_.width;
+  std::size_t offset = 0;
+  const auto add = [&](int out, int in) {
+    layers_.push_back({offset, out, in});
+    offset += std::size_t(out) * std::size_t(in + 1);
+  };
+  for (int i = 0; i < config_.depth; ++i)
+    add(w, i == 0 ? ex : (i == config_.skip_layer ? w + ex : w));
+  add(1, w);                                   // density
+  add(w, w);                                   // feature
+  add(config_.color_width, w + ed);            // colour hidden, on [f; γ(d)]
+  add(3, config_.color_width);                 // rgb
+  parameters_.assign(offset, Scalar(0));
+
+  std::mt19937 rng(seed);
+  for (const NerfLayerShape& layer : layers_) {
+    const double bound = std::sqrt(6.0 / double(layer.in + layer.out));
+    Scalar* w_begin = parameters_.data() + layer.offset;
+    for (std::size_t k = 0; k < std::size_t(layer.out) * layer.in; ++k)
+      w_begin[k] = Scalar(bound * (2.0 * double(uniform01(rng)) - 1.0));
+  }
+}
+
+template <typename Scalar>
+void BasicNerfMlp<Scalar>::size_context(Context& ctx, std::size_t count) const {
+  if (!(ctx.sized_for == config_) || ctx.encoded_positions.empty()) {
+    ctx = Context{};
+    ctx.sized_for = config_;
+  }
+  if (count <= ctx.capacity) return;
+  const std::size_t ex = encoded_size(config_.position_frequencies);
+  const std::size_t ed = encoded_size(config_.direction_frequencies);
+  const std::size_t w = config_.width;
+  ctx.capacity = count;
+  ctx.encoded_positions.resize(ex * count);
+  ctx.encoded_directions.resize(ed * count);
+  ctx.trunk.resize(std::size_t(config_.depth) * w * count);
+  ctx.density_preactivation.resize(count);
+  ctx.feature.resize(w * count);
+  ctx.color_hidden.resize(std::size_t(config_.color_width) * count);
+  ctx.rgb.resize(3 * count);
+}
+
+template <typename Scalar>
+void BasicNerfMlp<Scalar>::forward(std::span<const Scalar> positions,
+                                   std::span<const Scalar> directions, std::span<Scalar> sigma,
+                                   std::span<Scalar> rgb, Context& context) const {
+  const std::size_t n = positions.size() / 3;
+  require(positions.size() == 3 * n, "positions must hold 3 floats per sample");
+  require(directions.size() == 3 * n, "directions must match positions ([N, 3])");
+  require(sigma.size() == n, "sigma must hold N values");
+  require(rgb.size() == 3 * n, "rgb must hold 3 N values");
+  size_context(context, n);
+  context.count = n;
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, chunk_count(n), 1),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t c = range.begin(); c != range.end(); ++c) {
+          const std::size_t first = c * kSamplesPerChunk;
+          forward_chunk(context, first, std::min(kSamplesPerChunk, n - first), positions.data(),
+                        directions.data(), sigma.data(), rgb.data());
+        }
+      },
+      tbb::simple_partitioner());
+}
+
+template <typename Scalar>
+void BasicNerfMlp<Scalar>::forward_chunk(Context& ctx, std::size_t first, std::size_t n,
+                                         const Scalar* positions, const Scalar* directions,
+                                         Scalar* sigma, Scalar* rgb) const {
+  const int ex = encoded_size(config_.position_frequencies);
+  const int ed = encoded_size(config_.direction_frequencies);
+  const int w = config_.width;
+  const Scalar* params = parameters_.data();
+  const auto trunk = [&](int i) {
+    return columns(ctx.trunk.data() + std::size_t(i) * w * ctx.capacity, w, first, n);
+  };
+
+  Map<Scalar> gx = columns(ctx.encoded_positions.data(), ex, first, n);  // [E_x, n]
+  Map<Scalar> gd = columns(ctx.encoded_directions.data(), ed, first, n);  // [E_d, n]
+  encode_batch(positions + 3 * first, n, config_.position_frequencies, gx.data());
+  encode_batch(directions + 3 * first, n, config_.direction_frequencies, gd.data());
+
+  for (int i = 0; i < config_.depth; ++i) {
+    const NerfLayerShape& layer = layers_[i];
+    if (i == 0)
+      nerf_detail::dense_forward<Scalar>(weight(params, layer), bias(params, layer), gx,
+                                         Activation::kRelu, trunk(0));
+    else if (i == config_.skip_layer)
+      nerf_detail::dense2_forward<Scalar>(weight(params, layer), bias(params, layer),
+                                          trunk(i - 1), gx, Activation::kRelu, trunk(i));
+    else
+      nerf_detail::dense_forward<Scalar>(weight(params, layer), bias(params, layer),
+                                         trunk(i - 1), Activation::kRelu, trunk(i));
+  }
+  const Map<Scalar> last = trunk(config_.depth - 1);  // [width, n]
+
+  const NerfLayerShape& density = layers_[density_layer()];
+  Map<Scalar> z = columns(ctx.density_preactivation.data(), 1, first, n);  // [1, n]
+  nerf_detail::dense_forward<Scalar>(weight(params, density), bias(params, density), last,
+                                     Activation::kNone, z);
+  const bool softplus = config_.density_activation == DensityActivation::kSoftplus;
+  for (std::size_t j = 0; j < n; ++j)
+    sigma[first + j] = softplus ? nerf_detail::softplus(z(0, j)) : nerf_detail::relu(z(0, j));
+
+  const NerfLayerShape& feature = layers_[feature_layer()];
+  Map<Scalar> f = columns(ctx.feature.data(), w, first, n);  // [width, n]
+  nerf_detail::dense_forward<Scalar>(weight(params, feature), bias(params, feature), last,
+                                     Activation::kNone, f);
+
+  const NerfLayerShape& color = layers_[color_layer()];
+  Map<Scalar> hidden = columns(ctx.color_hidden.data(), config_.color_width, first, n);
+  nerf_detail::dense2_forward<Scalar>(weight(params, color), bias(params, color), f, gd,
+                                      Activation::kRelu, hidden);
+
+  const NerfLayerShape& out = layers_[rgb_layer()];
+  Map<Scalar> c = columns(ctx.rgb.data(), 3, first, n);  // [3, n]
+  nerf_detail::dense_forward<Scalar>(weight(params, out), bias(params, out), hidden,
+                                     Activation::kNone, c);
+  Scalar* rgb_out = rgb + 3 * first;
+  for (std::size_t k = 0; k < 3 * n; ++k) {
+    c.data()[k] = nerf_detail::sigmoid(c.data()[k]);
+    rgb_out[k] = c.data()[k];
+  }
+}
+
+template <typename Scalar>
+void BasicNerfMlp<Scalar>::backward(Context& ctx, std::span<const Scalar> v_sigma,
+                                    std::span<const Scalar> v_rgb,
+                                    std::span<Scalar> v_parameters,
+                                    std::span<Scalar> v_positions) const {
+  const std::size_t n = ctx.count;
+  require(ctx.sized_for == config_ && ctx.capacity >= n,
+          "backward needs the context of this network's forward");
+  require(v_sigma.size() == n, "v_sigma must hold N values (N of the last forward)");
+  require(v_rgb.size() == 3 * n, "v_rgb must hold 3 N values");
+  require(v_parameters.size() == parameter_count(), "v_parameters must hold parameter_count()");
+  require(v_positions.empty() || v_positions.size() == 3 * n,
+          "v_positions must be empty or hold 3 N values");
+
+  const std::size_t p = parameter_count();
+  if (ctx.partial_gradients.size() < kChunksPerGroup * p) {
+    ctx.partial_gradients.resize(kChunksPerGroup * p);
+    ctx.backward_scratch.resize(kChunksPerGroup * kSamplesPerChunk * cotangent_rows(config_));
+  }
+  Scalar* v_x = v_positions.empty() ? nullptr : v_positions.data();
+
+  const std::size_t chunks = chunk_count(n);
+  for (std::size_t group = 0; group < chunks; group += kChunksPerGroup) {
+    const std::size_t group_end = std::min(chunks, group + kChunksPerGroup);
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(group, group_end, 1),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t c = range.begin(); c != range.end(); ++c) {
+            const std::size_t first = c * kSamplesPerChunk;
+            backward_chunk(ctx, c - group, first, std::min(kSamplesPerChunk, n - first),
+                           v_sigma.data(), v_rgb.data(), v_x);
+          }
+        },
+        tbb::simple_partitioner());
+    // Each element gets v + g₀ + g₁ + … in chunk order, whichever thread adds it.
+    const std::size_t slots = group_end - group;
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, p, kParametersPerReduceTask),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          Scalar* __restrict out = v_parameters.data();
+          for (std::size_t s = 0; s < slots; ++s) {
+            const Scalar* __restrict partial = ctx.partial_gradients.data() + s * p;
+            for (std::size_t k = range.begin(); k != range.end(); ++k) out[k] += partial[k];
+          }
+        },
+        tbb::simple_partitioner());
+  }
+}
+
+// The chain rule backwards through forward_chunk, one layer's VJP at a time (dense_layer.hpp
+// holds each VJP and its derivation). Parameter gradients go to this slot's own buffer.
+template <typename Scalar>
+void BasicNerfMlp<Scalar>::backward_chunk(Context& ctx, std::size_t slot, std::size_t first,
+                                          std::size_t n, const Scalar* v_sigma,
+                                          const Scalar* v_rgb, Scalar* v_positions) const {
+  const int ex = encoded_size(config_.position_frequencies);
+  const int ed = encoded_size(config_.direction_frequencies);
+  const int w = config_.width;
+  const int cw = config_.color_width;
+  const std::size_t p = parameter_count();
+  const Scalar* params = parameters_.data();
+  Scalar* grad = ctx.partial_gradients.data() + slot * p;
+  std::fill(grad, grad + p, Scalar(0));
+  const Context& saved = ctx;  // forward's activations: read only
+  const auto trunk = [&](int i) {
+    return columns(saved.trunk.data() + std::size_t(i) * w * saved.capacity, w, first, n);
+  };
+
+  // This slot's cotangent scratch, in cotangent_rows' order.
+  Scalar* scratch = ctx.backward_scratch.data() + slot * kSamplesPerChunk * cotangent_rows(config_);
+  const auto take = [&](int rows) {
+    Map<Scalar> m(scratch, rows, Eigen::Index(n));
+    scratch += std::size_t(rows) * kSamplesPerChunk;
+    return m;
+  };
+  MatrixRef<Scalar> v_a = take(w), v_b = take(w), v_hidden = take(cw), v_c = take(3),
+                    v_z = take(1), v_gx = take(ex);
+
+  const ConstMap<Scalar> gx = columns(saved.encoded_positions.data(), ex, first, n);
+  const ConstMap<Scalar> gd = columns(saved.encoded_directions.data(), ed, first, n);
+  const ConstMap<Scalar> last = trunk(config_.depth - 1);
+  const ConstMap<Scalar> f = columns(saved.feature.data(), w, first, n);
+  const ConstMap<Scalar> hidden = columns(saved.color_hidden.data(), cw, first, n);
+  const ConstMap<Scalar> c = columns(saved.rgb.data(), 3, first, n);
+
+  // rgb = sigmoid(o):  v_o = v_rgb · rgb · (1 − rgb).
+  for (std::size_t k = 0; k < 3 * n; ++k)
+    v_c.data()[k] = nerf_detail::sigmoid_vjp_from_output(c.data()[k], v_rgb[3 * first + k]);
+  const NerfLayerShape& out = layers_[rgb_layer()];
+  v_hidden.setZero();
+  nerf_detail::dense_vjp<Scalar>(weight(params, out), hidden, v_c, weight(grad, out),
+                                 bias(grad, out), &v_hidden);
+  nerf_detail::relu_vjp_inplace<Scalar>(hidden, v_hidden);
+
+  // Colour layer on [f; γ(d)]: only f's cotangent is wanted (directions are not trained).
+  const NerfLayerShape& color = layers_[color_layer()];
+  v_a.setZero();
+  nerf_detail::dense2_vjp<Scalar>(weight(params, color), f, gd, v_hidden, weight(grad, color),
+                                  bias(grad, color), &v_a, nullptr);
+
+  // f = W_f·h + b_f (no activation): v_h = W_fᵀ·v_f, into v_b.
+  const NerfLayerShape& feature = layers_[feature_layer()];
+  v_b.setZero();
+  nerf_detail::dense_vjp<Scalar>(weight(params, feature), last, v_a, weight(grad, feature),
+                                 bias(grad, feature), &v_b);
+
+  // σ = act(z): v_z = v_σ · act'(z); then the density layer adds w_σᵀ·v_z to v_h.
+  const bool softplus = config_.density_activation == DensityActivation::kSoftplus;
+  const Scalar* z = saved.density_preactivation.data() + first;
+  for (std::size_t j = 0; j < n; ++j)
+    v_z(0, Eigen::Index(j)) = softplus ? nerf_detail::softplus_vjp(z[j], v_sigma[first + j])
+                                       : nerf_detail::relu_vjp(z[j], v_sigma[first + j]);
+  const NerfLayerShape& density = layers_[density_layer()];
+  nerf_detail::dense_vjp<Scalar>(weight(params, density), last, v_z, weight(grad, density),
+                                 bias(grad, density), &v_b);
+
+  // Trunk, top down; `v_h` holds the cotangent of layer i's output.
+  MatrixRef<Scalar>* v_h = &v_b;
+  MatrixRef<Scalar>* v_below = &v_a;
+  MatrixRef<Scalar>* v_code = v_positions ? &v_gx : nullptr;
+  if (v_code) v_gx.setZero();
+  for (int i = config_.depth - 1; i >= 0; --i) {
+    const NerfLayerShape& layer = layers_[i];
+    nerf_detail::relu_vjp_inplace<Scalar>(trunk(i), *v_h);
+    if (i == 0) {
+      nerf_detail::dense_vjp<Scalar>(weight(params, layer), gx, *v_h, weight(grad, layer),
+                                     bias(grad, layer), v_code);
+      break;
+    }
+    v_below->setZero();
+    if (i == config_.skip_layer)
+      nerf_detail::dense2_vjp<Scalar>(weight(params, layer), trunk(i - 1), gx, *v_h,
+                                      weight(grad, layer), bias(grad, layer), v_below, v_code);
+    else
+      nerf_detail::dense_vjp<Scalar>(weight(params, layer), trunk(i - 1), *v_h,
+                                     weight(grad, layer), bias(grad, layer), v_below);
+    std::swap(v_h, v_below);
+  }
+
+  // γ(x)'s first three rows are x itself, so the encoding's VJP needs no other input.
+  if (v_code)
+    for (std::size_t j = 0; j < n; ++j)
+      encode_vjp(gx.data() + std::size_t(ex) * j, config_.position_frequencies,
+                 v_gx.data() + std::size_t(ex) * j, v_positions + 3 * (first + j));
+}
+
+template class BasicNerfMlp<float>;
+template class BasicNerfMlp<double>;
+
+}  // namespace splat

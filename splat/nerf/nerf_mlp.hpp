@@ -1,0 +1,148 @@
+#pragma once
+// The NeRF network (Mildenhall et al. 2020, fig. 7), sizes as settings:
+//
+//   γ(x) ─► [ReLU, width] × depth ─┬─► linear width→1 ─► softplus | ReLU ─► σ ≥ 0
+//          (layer skip_layer takes │
+//           [h; γ(x)] as input)    └─► linear width→width (feature f, no activation)
+//                                  [f; γ(d)] ─► ReLU, color_width ─► linear →3 ─► sigmoid ─► rgb
+//
+// γ is positional_encoding.hpp's (raw input included): 3 + 6·position_frequencies inputs for
+// the position x, 3 + 6·direction_frequencies for the unit view direction d.
+//
+// Parameters live in one contiguous vector (Adam is one loop over it), layer after layer in
+// the order of layers(): trunk 0 … depth−1, density, feature, colour, rgb; each layer is its
+// weight W [out, in] column-major, then its bias b [out]. A concatenated input [A; B] is
+// matched by W = [W_A | W_B] (columns of A first). Count (E_x, E_d the encoded sizes):
+//   (E_x + 1)·width + (depth − 1)·(width + 1)·width + [skip] E_x·width      trunk
+//   + (width + 1) + (width + 1)·width                                     density, feature
+//   + (width + E_d + 1)·color_width + (color_width + 1)·3                 colour, rgb
+// = 595,844 for the defaults.
+//
+// Initialisation (the reference TensorFlow NeRF's, Keras' Dense default): weights uniform in
+// ±sqrt(6/(fan_in + fan_out)) (Glorot), biases zero; drawn from std::mt19937(seed) through
+// splat::uniform01 in parameter order, so a seed gives the same network on every platform.
+//
+// Batches: forward and backward split the N samples into fixed-size chunks processed in
+// parallel (oneTBB); inside a chunk each layer is one Eigen GEMM on column-major [features,
+// chunk] activations (Eigen single-threaded: no OpenMP). Parameter gradients are summed per
+// chunk into their own buffers and added in chunk order, so the results are bit-identical
+// for any thread count.
+//
+// Templated on the scalar so the gradient tests run the very same code in double;
+// instantiated for float (NerfMlp, training) and double (tests).
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace splat {
+
+enum class DensityActivation { kSoftplus, kRelu };
+
+struct NerfMlpConfig {
+  int position_frequencies = 10;  // L for γ(x)
+  int direction_frequencies = 4;  // L for γ(d)
+  int depth = 8;                  // trunk layers (ReLU, `width` outputs each)
+  int width = 256;
+  int skip_layer = 4;  // 0-based trunk layer whose input is [h; γ(x)]; −1 = none, else 1…depth−1
+  int color_width = 128;
+  DensityActivation density_activation = DensityActivation::kSoftplus;
+
+  bool operator==(const NerfMlpConfig&) const = default;
+};
+
+// Throws ArgumentError naming the first setting out of range.
+void validate(const NerfMlpConfig& config);
+
+// One affine layer inside the parameter vector: W [out, in] column-major at `offset`,
+// then b [out] at offset + out·in.
+struct NerfLayerShape {
+  std::size_t offset;
+  int out;
+  int in;
+};
+
+// What forward saves for backward, plus backward's scratch; buffers are sized on first use
+// and grow only when a batch is larger than any before (no allocation per call otherwise).
+// Activations are sample-major ([N, rows] = column-major [rows, N]); the stride between
+// blocks is `capacity` samples.
+template <typename Scalar>
+struct BasicNerfMlpContext {
+  std::size_t count = 0;     // N of the last forward
+  std::size_t capacity = 0;  // samples the activation buffers hold
+  NerfMlpConfig sized_for;   // the network these buffers were shaped for
+
+  std::vector<Scalar> encoded_positions;      // [capacity, E_x] γ(x); its first 3 are x
+  std::vector<Scalar> encoded_directions;     // [capacity, E_d] γ(d)
+  std::vector<Scalar> trunk;                  // depth × [capacity, width], after ReLU
+  std::vector<Scalar> density_preactivation;  // [capacity] z, σ = act(z)
+  std::vector<Scalar> feature;                // [capacity, width]
+  std::vector<Scalar> color_hidden;           // [capacity, color_width], after ReLU
+  std::vector<Scalar> rgb;                    // [capacity, 3], after the sigmoid
+
+  std::vector<Scalar> partial_gradients;  // [slots, parameter_count]: one per chunk in flight
+  std::vector<Scalar> backward_scratch;   // [slots, cotangents of one chunk]
+};
+
+// One sample's outputs (forward_single).
+template <typename Scalar>
+struct NerfMlpSample {
+  Scalar sigma;
+  std::array<Scalar, 3> rgb;
+};
+
+template <typename Scalar>
+class BasicNerfMlp {
+ public:
+  using Context = BasicNerfMlpContext<Scalar>;
+
+  // Validates the config (ArgumentError) and initialises the parameters from `seed`.
+  explicit BasicNerfMlp(const NerfMlpConfig& config = {}, std::uint32_t seed = 0);
+
+  const NerfMlpConfig& config() const { return config_; }
+  std::size_t parameter_count() const { return parameters_.size(); }
+  std::span<Scalar> parameters() { return parameters_; }
+  std::span<const Scalar> parameters() const { return parameters_; }
+  // trunk 0 … depth−1, then density, feature, colour, rgb (indices below).
+  const std::vector<NerfLayerShape>& layers() const { return layers_; }
+  int density_layer() const { return config_.depth; }
+  int feature_layer() const { return config_.depth + 1; }
+  int color_layer() const { return config_.depth + 2; }
+  int rgb_layer() const { return config_.depth + 3; }
+
+  // positions, directions [N, 3] → sigma [N], rgb [N, 3]; fills `context` for backward.
+  // Sizes must agree (ArgumentError).
+  void forward(std::span<const Scalar> positions, std::span<const Scalar> directions,
+               std::span<Scalar> sigma, std::span<Scalar> rgb, Context& context) const;
+
+  // With the context of the last forward and cotangents v_sigma [N], v_rgb [N, 3]:
+  // v_parameters [parameter_count()] += ∂L/∂θ, and, unless v_positions is empty (the
+  // default: training needs no input gradient), v_positions [N, 3] += ∂L/∂x. The caller
+  // zeroes both. The context is scratch here (its saved activations are only read).
+  void backward(Context& context, std::span<const Scalar> v_sigma, std::span<const Scalar> v_rgb,
+                std::span<Scalar> v_parameters, std::span<Scalar> v_positions = {}) const;
+
+  // Plain loops over one sample, no Eigen, no chunks: the oracle for forward in tests.
+  NerfMlpSample<Scalar> forward_single(const Scalar* position, const Scalar* direction) const;
+
+ private:
+  void forward_chunk(Context& context, std::size_t first, std::size_t count,
+                     const Scalar* positions, const Scalar* directions, Scalar* sigma,
+                     Scalar* rgb) const;
+  void backward_chunk(Context& context, std::size_t slot, std::size_t first, std::size_t count,
+                      const Scalar* v_sigma, const Scalar* v_rgb, Scalar* v_positions) const;
+  void size_context(Context& context, std::size_t count) const;
+
+  NerfMlpConfig config_;
+  std::vector<NerfLayerShape> layers_;
+  std::vector<Scalar> parameters_;  // [parameter_count()]
+};
+
+using NerfMlp = BasicNerfMlp<float>;
+using NerfMlpContext = BasicNerfMlpContext<float>;
+
+extern template class BasicNerfMlp<float>;
+extern template class BasicNerfMlp<double>;
+
+}  // namespace splat
