@@ -20,21 +20,63 @@ DIR/test/<view>.png, DIR/config.json and DIR/checkpoint.ckpt.
   --data DIR            Blender folder (transforms_train.json, transforms_test|val.json)
                         or COLMAP folder (sparse/0, images/), detected automatically
   --out DIR             output folder (created if missing)
-  --method splat|nerf   splat (default); nerf is the MLP baseline
-  --iters N             iterations (default 30000)
+  --method splat|nerf   splat (default); nerf is the MLP NeRF baseline (writes model.nerf)
+  --iters N             iterations (default 30000 splat, 20000 nerf)
   --max-seconds S       stop after S seconds of wall time (whichever limit comes first)
   --bg white|black      background the RGBA images are composited onto (default white)
   --seed N              random seed (default 0); results do not depend on --threads
   --threads N           worker threads (default: all cores)
   --downscale K         train and evaluate at 1/K of the image size (default 1)
   --max-gaussians N     Gaussian budget: densification never exceeds it (default: none)
-  --test-every N        evaluate the test views every N iterations (default 1000; 0 = end)
+  --test-every N        evaluate the test views every N iterations (default 1000 splat,
+                        2000 nerf; 0 = end only)
   --checkpoint-every N  write DIR/checkpoint.ckpt every N iterations (default 5000; 0 = off)
   --resume PATH         continue from a checkpoint file or a folder holding checkpoint.ckpt
   --config FILE         JSON with any settings of config.json (applied before the options)
   --quiet               no progress output
 Ctrl-C saves a checkpoint and a valid model.ply, then exits with status 130.
 )";
+
+// The options both methods share, over the defaults and the --config file. Both config
+// structs name these fields alike.
+template <class Config>
+void apply_options(const splat::cli::ArgParser& args, Config& config,
+                   splat::cli::TrainCommandOptions& options) {
+  if (auto file = args.value("config")) {
+    std::ifstream in(*file);
+    if (!in) throw splat::InputError(*file, "cannot open the config file");
+    try {
+      splat::from_json(nlohmann::json::parse(in), config);
+    } catch (const nlohmann::json::exception& e) {
+      throw splat::InputError(*file, std::string("malformed JSON: ") + e.what());
+    } catch (const splat::ArgumentError& e) {
+      throw splat::InputError(*file, e.what());
+    }
+  }
+  if (auto n = args.integer("iters")) {
+    if (*n < 1) throw splat::ArgumentError("--iters must be >= 1");
+    config.iterations = *n;
+  }
+  if (auto s = args.number("max-seconds")) {
+    if (*s <= 0) throw splat::ArgumentError("--max-seconds must be > 0");
+    config.max_seconds = *s;
+  }
+  const std::string bg = args.value("bg").value_or("white");
+  if (bg != "white" && bg != "black") throw splat::ArgumentError("--bg must be white or black");
+  for (int c = 0; c < 3; ++c) config.background[c] = options.dataset.background[c] = bg == "white" ? 1.0f : 0.0f;
+  if (auto seed = args.integer("seed")) {
+    if (*seed < 0) throw splat::ArgumentError("--seed must be >= 0");
+    config.seed = unsigned(*seed);
+  }
+  if (auto n = args.integer("test-every")) {
+    if (*n < 0) throw splat::ArgumentError("--test-every must be >= 0");
+    config.test_interval = *n;
+  }
+  if (auto n = args.integer("checkpoint-every")) {
+    if (*n < 0) throw splat::ArgumentError("--checkpoint-every must be >= 0");
+    config.checkpoint_interval = *n;
+  }
+}
 
 }  // namespace
 
@@ -54,37 +96,19 @@ int main(int argc, char** argv) {
     splat::cli::TrainCommandOptions options;
     options.data = args.required("data");
     options.out = args.required("out");
-    const std::string method = args.value("method").value_or("splat");
-    if (method == "nerf")
-      throw splat::ArgumentError("--method nerf is not available yet (the NeRF baseline is issue 4)");
-    if (method != "splat") throw splat::ArgumentError("--method must be splat or nerf, got '" + method + "'");
-
-    splat::SplatTrainingConfig& config = options.config;
-    if (auto file = args.value("config")) {
-      std::ifstream in(*file);
-      if (!in) throw splat::InputError(*file, "cannot open the config file");
-      try {
-        splat::from_json(nlohmann::json::parse(in), config);
-      } catch (const nlohmann::json::exception& e) {
-        throw splat::InputError(*file, std::string("malformed JSON: ") + e.what());
-      } catch (const splat::ArgumentError& e) {
-        throw splat::InputError(*file, e.what());
+    options.method = args.value("method").value_or("splat");
+    if (options.method != "splat" && options.method != "nerf")
+      throw splat::ArgumentError("--method must be splat or nerf, got '" + options.method + "'");
+    if (options.method == "nerf") {
+      if (args.value("max-gaussians"))
+        throw splat::ArgumentError("--max-gaussians is a splat setting; --method nerf has no Gaussians");
+      apply_options(args, options.nerf_config, options);
+    } else {
+      apply_options(args, options.config, options);
+      if (auto n = args.integer("max-gaussians")) {
+        if (*n < 1) throw splat::ArgumentError("--max-gaussians must be >= 1");
+        options.config.density.max_gaussians = std::size_t(*n);
       }
-    }
-    if (auto n = args.integer("iters")) {
-      if (*n < 1) throw splat::ArgumentError("--iters must be >= 1");
-      config.iterations = *n;
-    }
-    if (auto s = args.number("max-seconds")) {
-      if (*s <= 0) throw splat::ArgumentError("--max-seconds must be > 0");
-      config.max_seconds = *s;
-    }
-    const std::string bg = args.value("bg").value_or("white");
-    if (bg != "white" && bg != "black") throw splat::ArgumentError("--bg must be white or black");
-    for (int c = 0; c < 3; ++c) config.background[c] = options.dataset.background[c] = bg == "white" ? 1.0f : 0.0f;
-    if (auto seed = args.integer("seed")) {
-      if (*seed < 0) throw splat::ArgumentError("--seed must be >= 0");
-      config.seed = unsigned(*seed);
     }
     if (auto n = args.integer("threads")) {
       if (*n < 1) throw splat::ArgumentError("--threads must be >= 1");
@@ -93,18 +117,6 @@ int main(int argc, char** argv) {
     if (auto k = args.integer("downscale")) {
       if (*k < 1) throw splat::ArgumentError("--downscale must be >= 1");
       options.dataset.downscale = *k;
-    }
-    if (auto n = args.integer("max-gaussians")) {
-      if (*n < 1) throw splat::ArgumentError("--max-gaussians must be >= 1");
-      config.density.max_gaussians = std::size_t(*n);
-    }
-    if (auto n = args.integer("test-every")) {
-      if (*n < 0) throw splat::ArgumentError("--test-every must be >= 0");
-      config.test_interval = *n;
-    }
-    if (auto n = args.integer("checkpoint-every")) {
-      if (*n < 0) throw splat::ArgumentError("--checkpoint-every must be >= 0");
-      config.checkpoint_interval = *n;
     }
     if (auto r = args.value("resume")) options.resume = *r;
     options.quiet = args.has("quiet");

@@ -34,9 +34,9 @@ std::string ProgressReporter::format(const ProgressSnapshot& s) const {
   if (s.train_psnr) std::snprintf(psnr, sizeof(psnr), " | PSNR %.2f", *s.train_psnr);
   char test[64] = "";
   if (s.test_psnr) std::snprintf(test, sizeof(test), " | test %.2f dB", *s.test_psnr);
-  std::snprintf(buffer, sizeof(buffer), "iter %d/%d (%3.0f%%) | %.2f it/s | loss %.4f%s%s | %zu Gaussians | %s elapsed | ETA %s",
+  std::snprintf(buffer, sizeof(buffer), "iter %d/%d (%3.0f%%) | %.2f it/s | loss %.4f%s%s | %s | %s elapsed | ETA %s",
                 s.iteration, s.total_iterations, 100.0 * s.iteration / std::max(1, s.total_iterations),
-                s.iterations_per_second, s.loss, psnr, test, s.gaussians,
+                s.iterations_per_second, s.loss, psnr, test, s.model_size.c_str(),
                 format_duration(s.elapsed_seconds).c_str(), format_duration(eta).c_str());
   return buffer;
 }

@@ -14,7 +14,7 @@ struct ProgressSnapshot {
   double iterations_per_second = 0;
   double loss = 0;
   std::optional<double> train_psnr, test_psnr;
-  std::size_t gaussians = 0;
+  std::string model_size;  // "250632 Gaussians", "0.20M parameters"
 };
 
 class ProgressReporter {

@@ -17,6 +17,7 @@
 #include "splat/data/image_io.hpp"
 #include "splat/gaussians/ply_io.hpp"
 #include "splat/train/splat_trainer.hpp"
+#include "trainer_adapter.hpp"
 
 namespace splat::cli {
 
@@ -76,20 +77,21 @@ nlohmann::json timings_json(const IterationTimings& t, int count) {
 class TrainingRun {
  public:
   TrainingRun(const TrainCommandOptions& options, const Dataset& dataset)
-      : options_(options), dataset_(dataset), trainer_(dataset, options.config),
-        progress_(isatty(STDOUT_FILENO) && !options.quiet) {}
+      : options_(options), dataset_(dataset), trainer_(make_trainer(options, dataset)),
+        schedule_(trainer_->schedule()), progress_(isatty(STDOUT_FILENO) && !options.quiet) {}
 
   int run();
 
  private:
   void evaluate_and_record(double train_seconds, double recent_loss);
-  void write_outputs(const GaussianModel& model, const std::string& stopped_by, double train_seconds);
-  nlohmann::json metrics(const GaussianModel& model, const std::string& stopped_by, double train_seconds,
-                         std::size_t model_bytes) const;
+  void write_outputs(const std::string& stopped_by, double train_seconds);
+  nlohmann::json metrics(const std::string& stopped_by, double train_seconds, std::size_t model_bytes) const;
+  std::filesystem::path model_path() const { return options_.out / trainer_->model_file_name(); }
 
   const TrainCommandOptions& options_;
   const Dataset& dataset_;
-  SplatTrainer trainer_;
+  std::unique_ptr<TrainerAdapter> trainer_;
+  RunSchedule schedule_;
   ProgressReporter progress_;
   nlohmann::json history_ = nlohmann::json::array();
   std::optional<Evaluation> last_test_;
@@ -101,27 +103,27 @@ class TrainingRun {
 // `recent_loss` fills the entry's loss when the test point gets an entry of its own (the
 // contract wants a loss in every history entry): the mean loss since the previous entry.
 void TrainingRun::evaluate_and_record(double train_seconds, double recent_loss) {
-  last_test_ = trainer_.evaluate(dataset_.test);
-  if (!history_.empty() && history_.back()["iteration"] == trainer_.iteration()) {
+  last_test_ = trainer_->evaluate(dataset_.test, nullptr);
+  if (!history_.empty() && history_.back()["iteration"] == trainer_->iteration()) {
     history_.back()["test_psnr"] = last_test_->psnr;
     history_.back()["test_ssim"] = last_test_->ssim;
   } else {
-    history_.push_back({{"iteration", trainer_.iteration()}, {"seconds", train_seconds},
-                        {"loss", recent_loss}, {"num_gaussians", trainer_.model().size()},
+    history_.push_back({{"iteration", trainer_->iteration()}, {"seconds", train_seconds},
+                        {"loss", recent_loss}, {"num_gaussians", trainer_->num_gaussians()},
                         {"test_psnr", last_test_->psnr}, {"test_ssim", last_test_->ssim}});
   }
   char line[160];
-  std::snprintf(line, sizeof(line), "[test] iteration %d: PSNR %.3f dB, SSIM %.4f over %d views (%zu Gaussians)",
-                trainer_.iteration(), last_test_->psnr, last_test_->ssim, last_test_->views,
-                trainer_.model().size());
+  std::snprintf(line, sizeof(line), "[test] iteration %d: PSNR %.3f dB, SSIM %.4f over %d views (%s)",
+                trainer_->iteration(), last_test_->psnr, last_test_->ssim, last_test_->views,
+                trainer_->model_size().c_str());
   if (!options_.quiet) progress_.message(line);
 }
 
 int TrainingRun::run() {
-  const SplatTrainingConfig& config = trainer_.config();
+  const RunSchedule& config = schedule_;
   if (options_.resume) {
     const fs::path file = checkpoint_file(*options_.resume);
-    trainer_.load_checkpoint(file);
+    trainer_->load_checkpoint(file);
     const fs::path old_metrics = file.parent_path() / "metrics.json";
     if (fs::exists(old_metrics)) {
       try {
@@ -135,9 +137,9 @@ int TrainingRun::run() {
     }
     if (!options_.quiet)
       progress_.message("resumed from " + file.string() + " at iteration " +
-                        std::to_string(trainer_.iteration()));
+                        std::to_string(trainer_->iteration()));
   }
-  write_json(options_.out / "config.json", to_json(config));
+  write_json(options_.out / "config.json", trainer_->config_json());
 
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
@@ -150,9 +152,9 @@ int TrainingRun::run() {
   WindowAverages window;
   double last_loss = 0;
   std::string stopped_by = "iterations";
-  const int first_iteration = trainer_.iteration();
+  const int first_iteration = trainer_->iteration();
   try {
-    while (trainer_.iteration() < config.iterations) {
+    while (trainer_->iteration() < config.iterations) {
       if (g_interrupted) {
         stopped_by = "interrupt";
         break;
@@ -166,26 +168,26 @@ int TrainingRun::run() {
       // official trainer's report at iteration N sees. Scored after them instead, fresh
       // splits and reset opacities would depress every test point that falls on a
       // densification (all multiples of 100 up to 15,000).
-      const int next = trainer_.iteration() + 1;
+      const int next = trainer_->iteration() + 1;
       if (config.test_interval > 0 && next % config.test_interval == 0 && next < config.iterations) {
         const auto eval_start = Clock::now();
         evaluate_and_record(train_seconds(), window.count > 0 ? window.loss / window.count : last_loss);
         eval_seconds += std::chrono::duration<double>(Clock::now() - eval_start).count();
       }
-      const StepResult r = trainer_.step();
+      const StepResult r = trainer_->step();
       window.add(r);
       whole_run_.add(r);
       last_loss = r.loss;
-      const int it = trainer_.iteration();
+      const int it = trainer_->iteration();
       if (it % kHistoryInterval == 0 || it == config.iterations) {
         history_.push_back({{"iteration", it}, {"seconds", train_seconds()},
                             {"loss", window.loss / std::max(1, window.count)},
-                            {"num_gaussians", trainer_.model().size()},
+                            {"num_gaussians", trainer_->num_gaussians()},
                             {"ms_per_iteration", timings_json(window.timings, window.count)}});
         window = WindowAverages{};
       }
       if (config.checkpoint_interval > 0 && it % config.checkpoint_interval == 0)
-        trainer_.save_checkpoint(options_.out / kCheckpointName);
+        trainer_->save_checkpoint(options_.out / kCheckpointName);
       if (!options_.quiet) {
         ProgressSnapshot s;
         s.iteration = it;
@@ -195,45 +197,43 @@ int TrainingRun::run() {
         s.iterations_per_second = (it - first_iteration) / std::max(1e-9, train_seconds() - resumed_seconds_);
         s.loss = r.loss;
         if (last_test_) s.test_psnr = last_test_->psnr;
-        s.gaussians = trainer_.model().size();
+        s.model_size = trainer_->model_size();
         progress_.update(s);
       }
     }
   } catch (const TrainingDiverged& diverged) {
     progress_.finish();
     // Keep what was good: the last parameters that passed the finiteness check.
-    write_ply(trainer_.last_good_model(), options_.out / "model.ply");
-    nlohmann::json m = metrics(trainer_.last_good_model(), "diverged", train_seconds(),
-                               fs::file_size(options_.out / "model.ply"));
+    trainer_->write_last_good_model(model_path());
+    nlohmann::json m = metrics("diverged", train_seconds(), fs::file_size(model_path()));
     m["diverged"] = {{"iteration", diverged.iteration()}, {"group", diverged.group()}};
     write_json(options_.out / "metrics.json", m);
     throw Error(std::string(diverged.what()) + "; the last good model is in " +
-                (options_.out / "model.ply").string());
+                model_path().string());
   }
   progress_.finish();
   final_loss_ = last_loss;
   const double seconds = train_seconds();
   if (stopped_by == "interrupt") {
-    trainer_.save_checkpoint(options_.out / kCheckpointName);
+    trainer_->save_checkpoint(options_.out / kCheckpointName);
     if (!options_.quiet)
-      progress_.message("interrupted at iteration " + std::to_string(trainer_.iteration()) +
+      progress_.message("interrupted at iteration " + std::to_string(trainer_->iteration()) +
                         ": checkpoint saved to " + (options_.out / kCheckpointName).string() +
                         " (continue with --resume " + options_.out.string() + ")");
   }
-  trainer_.check_parameters_finite();
-  write_outputs(trainer_.model(), stopped_by, seconds);
+  trainer_->check_parameters_finite();
+  write_outputs(stopped_by, seconds);
   return stopped_by == "interrupt" ? 130 : 0;
 }
 
-nlohmann::json TrainingRun::metrics(const GaussianModel& model, const std::string& stopped_by,
-                                    double train_seconds, std::size_t model_bytes) const {
-  const std::size_t params_per_gaussian = 3 + 3 + 4 + 1 + std::size_t(model.sh_coefficients()) * 3;
+nlohmann::json TrainingRun::metrics(const std::string& stopped_by, double train_seconds,
+                                    std::size_t model_bytes) const {
   nlohmann::json m;
-  m["method"] = "splat";
-  m["iterations"] = trainer_.iteration();
+  m["method"] = trainer_->method();
+  m["iterations"] = trainer_->iteration();
   m["train_seconds"] = train_seconds;
-  m["num_gaussians"] = model.size();
-  m["num_params"] = model.size() * params_per_gaussian;
+  m["num_gaussians"] = trainer_->num_gaussians();
+  m["num_params"] = trainer_->num_params();
   m["model_bytes"] = model_bytes;
   if (last_test_)
     m["test"] = {{"psnr", last_test_->psnr}, {"ssim", last_test_->ssim}, {"views", last_test_->views}};
@@ -242,33 +242,31 @@ nlohmann::json TrainingRun::metrics(const GaussianModel& model, const std::strin
   m["ms_per_iteration"] = timings_json(whole_run_.timings, whole_run_.count);
   m["peak_memory_bytes"] = peak_memory_bytes();
   m["threads"] = options_.threads > 0 ? options_.threads : tbb::info::default_concurrency();
-  m["scene_extent"] = trainer_.scene_extent();
+  trainer_->add_metrics(m);
   m["data"] = options_.data.string();
   m["train_views"] = dataset_.train.size();
   return m;
 }
 
-void TrainingRun::write_outputs(const GaussianModel& model, const std::string& stopped_by,
-                                double train_seconds) {
+void TrainingRun::write_outputs(const std::string& stopped_by, double train_seconds) {
   std::vector<Image> renders;
-  last_test_ = trainer_.evaluate(dataset_.test, &renders);
-  if (history_.empty() || history_.back()["iteration"] != trainer_.iteration())
-    history_.push_back({{"iteration", trainer_.iteration()}, {"seconds", train_seconds},
-                        {"loss", final_loss_}, {"num_gaussians", model.size()}});
+  last_test_ = trainer_->evaluate(dataset_.test, &renders);
+  if (history_.empty() || history_.back()["iteration"] != trainer_->iteration())
+    history_.push_back({{"iteration", trainer_->iteration()}, {"seconds", train_seconds},
+                        {"loss", final_loss_}, {"num_gaussians", trainer_->num_gaussians()}});
   history_.back()["test_psnr"] = last_test_->psnr;
   history_.back()["test_ssim"] = last_test_->ssim;
   fs::create_directories(options_.out / "test");
   for (std::size_t i = 0; i < renders.size(); ++i)
     write_png(renders[i], options_.out / "test" / (dataset_.test[i].name + ".png"));
-  const fs::path model_file = options_.out / "model.ply";
-  write_ply(model, model_file);
-  write_json(options_.out / "metrics.json",
-             metrics(model, stopped_by, train_seconds, fs::file_size(model_file)));
+  const fs::path model_file = model_path();
+  trainer_->write_model(model_file);
+  write_json(options_.out / "metrics.json", metrics(stopped_by, train_seconds, fs::file_size(model_file)));
   if (!options_.quiet) {
     char line[256];
     std::snprintf(line, sizeof(line),
-                  "done: %d iterations in %s, %zu Gaussians, test PSNR %.3f dB, SSIM %.4f (%d views)",
-                  trainer_.iteration(), format_duration(train_seconds).c_str(), model.size(),
+                  "done: %d iterations in %s, %s, test PSNR %.3f dB, SSIM %.4f (%d views)",
+                  trainer_->iteration(), format_duration(train_seconds).c_str(), trainer_->model_size().c_str(),
                   last_test_->psnr, last_test_->ssim, last_test_->views);
     progress_.message(line);
     progress_.message("outputs: " + model_file.string() + ", " +

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "splat/data/dataset.hpp"
+#include "splat/train/nerf_trainer.hpp"
 #include "splat/train/training_config.hpp"
 
 namespace splat::cli {
@@ -12,7 +13,9 @@ namespace splat::cli {
 struct TrainCommandOptions {
   std::filesystem::path data, out;
   std::optional<std::filesystem::path> resume;  // a checkpoint file, or a folder holding one
+  std::string method = "splat";  // "splat" | "nerf": which config below applies
   SplatTrainingConfig config;
+  NerfTrainingConfig nerf_config;
   DatasetOptions dataset;
   int threads = 0;               // 0 = all cores
   bool quiet = false;            // no progress bar / lines

@@ -38,6 +38,15 @@ glm::vec3 OccupancyGrid::cell_center(std::size_t c) const {
   return box_.lo + (index + 0.5f) * cell_size_;
 }
 
+void OccupancyGrid::restore(std::span<const float> values, std::span<const std::uint8_t> occupied) {
+  if (values.size() != cell_count() || occupied.size() != cell_count())
+    throw ArgumentError("occupancy grid: restoring " + std::to_string(values.size()) + " values and " +
+                        std::to_string(occupied.size()) + " flags into " + std::to_string(cell_count()) +
+                        " cells");
+  std::copy(values.begin(), values.end(), value_.begin());
+  for (std::size_t c = 0; c < occupied.size(); ++c) occupied_[c] = occupied[c] ? 1 : 0;
+}
+
 std::size_t OccupancyGrid::occupied_count() const {
   return std::size_t(std::count(occupied_.begin(), occupied_.end(), std::uint8_t(1)));
 }

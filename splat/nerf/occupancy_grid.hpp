@@ -69,6 +69,12 @@ class OccupancyGrid {
   float cell_value(std::size_t cell) const { return value_[cell]; }
   glm::vec3 cell_center(std::size_t cell) const;
 
+  // The whole state (values and flags, which differ before the first update), for model
+  // files and checkpoints; restore throws ArgumentError unless both have cell_count() entries.
+  std::span<const float> values() const { return value_; }
+  std::span<const std::uint8_t> occupancy() const { return occupied_; }
+  void restore(std::span<const float> values, std::span<const std::uint8_t> occupied);
+
  private:
   // The cell holding p, or −1 outside the box (the upper faces belong to the last cells).
   std::ptrdiff_t cell_index(const glm::vec3& p) const;

@@ -1,0 +1,39 @@
+#pragma once
+// A trained NeRF: the coarse and fine networks, the box rays sample inside, the occupancy
+// grid that lets them skip empty space, and the sampling settings they were trained with
+// (rendering must use the same ones). Saved as model.nerf (nerf_file.hpp).
+#include <cstdint>
+
+#include "splat/nerf/nerf_mlp.hpp"
+#include "splat/nerf/occupancy_grid.hpp"
+#include "splat/nerf/rays.hpp"
+
+namespace splat {
+
+struct NerfSettings {
+  // Smaller than the paper's 8×256 networks: on two CPU cores the paper's size trains a few
+  // hundred iterations in half an hour; this one trains thousands and is more accurate
+  // within such a budget (bench/README.md, P4).
+  NerfMlpConfig coarse{10, 4, 4, 128, 2, 64, DensityActivation::kSoftplus};
+  NerfMlpConfig fine{10, 4, 4, 128, 2, 64, DensityActivation::kSoftplus};
+  int coarse_samples = 32;  // stratified, per ray, before empty space is dropped
+  int fine_samples = 64;    // importance-sampled from the coarse weights
+  AxisAlignedBox box{glm::vec3(-1.5f), glm::vec3(1.5f)};  // rays sample only inside
+  float near = 0.05f;       // no samples closer than this to the camera
+  int occupancy_resolution = 64;
+  float occupancy_threshold = 0.01f;
+};
+
+struct NerfModel {
+  NerfSettings settings;
+  NerfMlp coarse, fine;
+  OccupancyGrid grid;
+
+  NerfModel(const NerfSettings& s, std::uint32_t seed)
+      : settings(s), coarse(s.coarse, seed), fine(s.fine, seed + 1),
+        grid(s.box, s.occupancy_resolution, s.occupancy_threshold) {}
+
+  std::size_t parameter_count() const { return coarse.parameter_count() + fine.parameter_count(); }
+};
+
+}  // namespace splat

@@ -1,0 +1,133 @@
+#include "splat/nerf/nerf_renderer.hpp"
+
+#include <algorithm>
+
+#include "splat/nerf/samplers.hpp"
+
+namespace splat {
+
+namespace {
+
+constexpr std::size_t kImageBatchRays = 4096;
+
+// Fills the network inputs (sample points and the ray's direction) of a placed pass.
+void fill_inputs(std::span<const Ray> rays, const std::vector<std::uint32_t>& offsets,
+                 const std::vector<float>& t, std::vector<float>& positions,
+                 std::vector<float>& directions) {
+  positions.resize(3 * t.size());
+  directions.resize(3 * t.size());
+  for (std::size_t r = 0; r < rays.size(); ++r)
+    for (std::uint32_t i = offsets[r]; i < offsets[r + 1]; ++i) {
+      const glm::vec3 p = rays[r].origin + t[i] * rays[r].direction;
+      for (int a = 0; a < 3; ++a) {
+        positions[3 * i + a] = p[a];
+        directions[3 * i + a] = rays[r].direction[a];
+      }
+    }
+}
+
+}  // namespace
+
+void NerfRenderer::place_coarse(const NerfModel& model, std::span<const Ray> rays, bool jitter,
+                                std::mt19937& rng) {
+  const int n = model.settings.coarse_samples;
+  Pass& pass = coarse_;
+  pass.offsets.assign(rays.size() + 1, 0);
+  pass.t.clear();
+  pass.delta.clear();
+  ray_far_.assign(rays.size(), 0.0f);
+  scratch_t_.resize(std::size_t(n));
+  scratch_delta_.resize(std::size_t(n));
+  for (std::size_t r = 0; r < rays.size(); ++r) {
+    pass.offsets[r] = std::uint32_t(pass.t.size());
+    const auto bounds = intersect_box(rays[r], model.settings.box, model.settings.near);
+    if (!bounds) continue;
+    ray_far_[r] = bounds->far;
+    stratified_samples(*bounds, jitter, rng, scratch_t_, scratch_delta_);
+    const std::size_t kept = drop_empty_samples(model.grid, rays[r], scratch_t_, scratch_delta_);
+    pass.t.insert(pass.t.end(), scratch_t_.begin(), scratch_t_.begin() + std::ptrdiff_t(kept));
+    pass.delta.insert(pass.delta.end(), scratch_delta_.begin(),
+                      scratch_delta_.begin() + std::ptrdiff_t(kept));
+  }
+  pass.offsets[rays.size()] = std::uint32_t(pass.t.size());
+  fill_inputs(rays, pass.offsets, pass.t, pass.positions, pass.directions);
+}
+
+void NerfRenderer::place_fine(const NerfModel& model, std::span<const Ray> rays, bool jitter,
+                              std::mt19937& rng) {
+  const std::size_t n_fine = std::size_t(model.settings.fine_samples);
+  const Pass& coarse = coarse_;
+  Pass& pass = fine_;
+  pass.offsets.assign(rays.size() + 1, 0);
+  pass.t.clear();
+  pass.delta.clear();
+  scratch_fine_.resize(n_fine);
+  for (std::size_t r = 0; r < rays.size(); ++r) {
+    pass.offsets[r] = std::uint32_t(pass.t.size());
+    const std::uint32_t begin = coarse.offsets[r], end = coarse.offsets[r + 1];
+    if (begin == end) continue;  // nothing in the box here: the background
+    const std::size_t n = end - begin;
+    const std::span<const float> ct(&coarse.t[begin], n), cd(&coarse.delta[begin], n),
+        cw(&coarse.render.weights[begin], n);
+    scratch_t_.resize(n + n_fine);
+    scratch_delta_.resize(n + n_fine);
+    hierarchical_samples(ct, cd, cw, ray_far_[r], jitter, rng, scratch_fine_, scratch_t_, scratch_delta_);
+    pass.t.insert(pass.t.end(), scratch_t_.begin(), scratch_t_.end());
+    pass.delta.insert(pass.delta.end(), scratch_delta_.begin(), scratch_delta_.end());
+  }
+  pass.offsets[rays.size()] = std::uint32_t(pass.t.size());
+  fill_inputs(rays, pass.offsets, pass.t, pass.positions, pass.directions);
+}
+
+void NerfRenderer::evaluate(const NerfMlp& mlp, std::span<const Ray> rays, Pass& pass,
+                            const float background[3]) {
+  const std::size_t s = pass.t.size();
+  pass.sigma.resize(s);
+  pass.rgb.resize(3 * s);
+  if (s > 0) mlp.forward(pass.positions, pass.directions, pass.sigma, pass.rgb, pass.mlp);
+  pass.render.resize(rays.size(), s);
+  volume_render(pass.batch(), pass.sigma, pass.rgb, background, pass.render);
+}
+
+void NerfRenderer::forward(const NerfModel& model, std::span<const Ray> rays,
+                           const float background[3], bool jitter, std::mt19937& rng) {
+  std::copy(background, background + 3, background_);
+  place_coarse(model, rays, jitter, rng);
+  evaluate(model.coarse, rays, coarse_, background);
+  place_fine(model, rays, jitter, rng);
+  evaluate(model.fine, rays, fine_, background);
+}
+
+void NerfRenderer::backward_pass(const NerfMlp& mlp, Pass& pass, std::span<const float> v_color,
+                                 const float background[3], std::span<float> v_params) {
+  const std::size_t s = pass.t.size();
+  if (s == 0) return;
+  pass.v_sigma.resize(s);
+  pass.v_rgb.resize(3 * s);
+  volume_render_backward(pass.batch(), pass.sigma, pass.rgb, background, pass.render, v_color,
+                         pass.v_sigma, pass.v_rgb);
+  mlp.backward(pass.mlp, pass.v_sigma, pass.v_rgb, v_params);
+}
+
+void NerfRenderer::backward(const NerfModel& model, std::span<const float> v_coarse_color,
+                            std::span<const float> v_fine_color, std::span<float> v_coarse_params,
+                            std::span<float> v_fine_params) {
+  backward_pass(model.coarse, coarse_, v_coarse_color, background_, v_coarse_params);
+  backward_pass(model.fine, fine_, v_fine_color, background_, v_fine_params);
+}
+
+Image NerfRenderer::render_image(const NerfModel& model, const Camera& camera,
+                                 const float background[3]) {
+  camera_rays(camera, image_rays_);
+  Image image(camera.width, camera.height, 3);
+  std::mt19937 unused_rng(0);
+  for (std::size_t first = 0; first < image_rays_.size(); first += kImageBatchRays) {
+    const std::size_t count = std::min(kImageBatchRays, image_rays_.size() - first);
+    forward(model, std::span<const Ray>(&image_rays_[first], count), background, false, unused_rng);
+    std::copy(fine_color().begin(), fine_color().begin() + std::ptrdiff_t(3 * count),
+              image.data.begin() + std::ptrdiff_t(3 * first));
+  }
+  return image;
+}
+
+}  // namespace splat

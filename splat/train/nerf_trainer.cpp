@@ -1,0 +1,289 @@
+#include "splat/train/nerf_trainer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "splat/core/atomic_file.hpp"
+#include "splat/core/random.hpp"
+#include "splat/eval/metrics.hpp"
+#include "splat/nerf/nerf_file.hpp"
+
+namespace splat {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+constexpr int kLastGoodInterval = 100;
+constexpr char kCheckpointMagic[8] = {'S', 'P', 'L', 'N', 'R', 'F', 'C', 'K'};
+constexpr std::uint32_t kCheckpointVersion = 1;
+
+bool all_finite(std::span<const float> values) {
+  for (float v : values)
+    if (!std::isfinite(v)) return false;
+  return true;
+}
+
+void write_floats(std::ostream& out, const std::vector<float>& v) {
+  const std::uint64_t n = v.size();
+  out.write(reinterpret_cast<const char*>(&n), sizeof(n));
+  out.write(reinterpret_cast<const char*>(v.data()), std::streamsize(n * sizeof(float)));
+}
+
+void read_floats(std::istream& in, std::vector<float>& v, const std::filesystem::path& file) {
+  std::uint64_t n = 0;
+  in.read(reinterpret_cast<char*>(&n), sizeof(n));
+  if (!in || n != v.size()) throw InputError(file, "optimiser state does not match the model");
+  in.read(reinterpret_cast<char*>(v.data()), std::streamsize(n * sizeof(float)));
+  if (!in) throw InputError(file, "truncated optimiser state");
+}
+
+}  // namespace
+
+nlohmann::json to_json(const NerfTrainingConfig& c) {
+  return {{"method", "nerf"},
+          {"iterations", c.iterations}, {"max_seconds", c.max_seconds},
+          {"background", {c.background[0], c.background[1], c.background[2]}},
+          {"seed", c.seed}, {"rays_per_batch", c.rays_per_batch},
+          {"lr_init", c.lr_init}, {"lr_final", c.lr_final},
+          {"occupancy_warmup", c.occupancy_warmup}, {"occupancy_interval", c.occupancy_interval},
+          {"occupancy_cells_per_update", c.occupancy_cells_per_update},
+          {"test_interval", c.test_interval}, {"checkpoint_interval", c.checkpoint_interval},
+          {"model", nerf_settings_json(c.model)}};
+}
+
+void from_json(const nlohmann::json& j, NerfTrainingConfig& c) {
+  if (!j.is_object()) throw ArgumentError("the NeRF config must be a JSON object");
+  for (const auto& [key, value] : j.items()) {
+    try {
+      if (key == "method") {
+        if (value != "nerf") throw ArgumentError("\"method\" is " + value.dump() + " in a NeRF config");
+      } else if (key == "iterations") c.iterations = value.get<int>();
+      else if (key == "max_seconds") c.max_seconds = value.get<double>();
+      else if (key == "background") {
+        const auto bg = value.get<std::vector<float>>();
+        if (bg.size() != 3) throw ArgumentError("\"background\" needs 3 values");
+        for (int i = 0; i < 3; ++i) c.background[i] = bg[std::size_t(i)];
+      } else if (key == "seed") c.seed = value.get<unsigned>();
+      else if (key == "rays_per_batch") c.rays_per_batch = value.get<int>();
+      else if (key == "lr_init") c.lr_init = value.get<double>();
+      else if (key == "lr_final") c.lr_final = value.get<double>();
+      else if (key == "occupancy_warmup") c.occupancy_warmup = value.get<int>();
+      else if (key == "occupancy_interval") c.occupancy_interval = value.get<int>();
+      else if (key == "occupancy_cells_per_update") c.occupancy_cells_per_update = value.get<std::size_t>();
+      else if (key == "test_interval") c.test_interval = value.get<int>();
+      else if (key == "checkpoint_interval") c.checkpoint_interval = value.get<int>();
+      else if (key == "model") {
+        nlohmann::json merged = nerf_settings_json(c.model);
+        merged.merge_patch(value);
+        c.model = nerf_settings_from_json(merged);
+      } else {
+        throw ArgumentError("unknown NeRF setting \"" + key + "\"");
+      }
+    } catch (const nlohmann::json::exception& e) {
+      throw ArgumentError("NeRF setting \"" + key + "\": " + e.what());
+    }
+  }
+  if (c.rays_per_batch < 1 || c.iterations < 1 || c.occupancy_interval < 1)
+    throw ArgumentError("rays_per_batch, iterations and occupancy_interval must be >= 1");
+}
+
+NerfTrainer::NerfTrainer(const Dataset& dataset, const NerfTrainingConfig& config)
+    : dataset_(dataset), config_(config), model_(config.model, config.seed),
+      last_good_model_(model_), coarse_adam_(model_.coarse.parameter_count()),
+      fine_adam_(model_.fine.parameter_count()), rng_(config.seed) {
+  if (dataset.train.empty()) throw ArgumentError("training needs at least one training view");
+}
+
+float NerfTrainer::learning_rate() const {
+  // Log-linear from lr_init to lr_final over the run, as the paper's exponential decay.
+  const double progress = std::min(1.0, double(iteration_) / double(std::max(1, config_.iterations)));
+  return float(std::exp(std::log(config_.lr_init) * (1 - progress) + std::log(config_.lr_final) * progress));
+}
+
+void NerfTrainer::update_occupancy() {
+  // A cell may hold density if either network sees some there: the coarse network places
+  // the samples the fine one refines.
+  const OccupancyGrid::DensityFunction density = [&](std::span<const glm::vec3> points,
+                                                     std::span<float> sigmas) {
+    const std::size_t n = points.size();
+    density_positions_.resize(3 * n);
+    density_directions_.assign(3 * n, 0.0f);
+    density_sigma_.resize(n);
+    density_rgb_.resize(3 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int a = 0; a < 3; ++a) density_positions_[3 * i + a] = points[i][a];
+      density_directions_[3 * i + 2] = 1.0f;  // σ does not depend on the direction
+    }
+    model_.coarse.forward(density_positions_, density_directions_, density_sigma_, density_rgb_,
+                          density_context_);
+    density_max_ = density_sigma_;
+    model_.fine.forward(density_positions_, density_directions_, density_sigma_, density_rgb_,
+                        density_context_);
+    for (std::size_t i = 0; i < n; ++i) sigmas[i] = std::max(density_max_[i], density_sigma_[i]);
+  };
+  OccupancyUpdateOptions options;
+  options.cells = config_.occupancy_cells_per_update;
+  model_.grid.update(density, rng_, options);
+}
+
+StepResult NerfTrainer::step() {
+  const int iteration = iteration_ + 1;
+  StepResult result;
+  auto start = Clock::now();
+  // Random rays across all training images: a view, then a pixel, from the trainer's RNG.
+  const std::size_t batch = std::size_t(config_.rays_per_batch);
+  rays_.resize(batch);
+  targets_.resize(3 * batch);
+  for (std::size_t r = 0; r < batch; ++r) {
+    const DatasetView& view = dataset_.train[rng_() % dataset_.train.size()];
+    const int x = int(rng_() % std::uint32_t(view.image.width));
+    const int y = int(rng_() % std::uint32_t(view.image.height));
+    rays_[r] = camera_ray(view.camera, float(x), float(y));
+    for (int c = 0; c < 3; ++c) targets_[3 * r + c] = view.image.at(x, y, c);
+  }
+  renderer_.forward(model_, rays_, config_.background, /*jitter=*/true, rng_);
+  result.timings.forward = ms_since(start);
+
+  start = Clock::now();
+  // L = MSE(coarse) + MSE(fine) over the batch's rays and channels (the paper's loss).
+  const auto& coarse = renderer_.coarse_color();
+  const auto& fine = renderer_.fine_color();
+  v_coarse_.resize(3 * batch);
+  v_fine_.resize(3 * batch);
+  double coarse_sse = 0, fine_sse = 0;
+  const float scale = 2.0f / float(3 * batch);
+  for (std::size_t i = 0; i < 3 * batch; ++i) {
+    const float dc = coarse[i] - targets_[i], df = fine[i] - targets_[i];
+    coarse_sse += double(dc) * dc;
+    fine_sse += double(df) * df;
+    v_coarse_[i] = scale * dc;
+    v_fine_[i] = scale * df;
+  }
+  const double fine_mse = fine_sse / double(3 * batch);
+  result.loss = coarse_sse / double(3 * batch) + fine_mse;
+  result.l1 = fine_mse;  // the fine pass's MSE (what the test PSNR measures)
+  result.timings.loss = ms_since(start);
+  if (!std::isfinite(result.loss)) throw TrainingDiverged(iteration, "loss");
+
+  start = Clock::now();
+  coarse_grad_.assign(model_.coarse.parameter_count(), 0.0f);
+  fine_grad_.assign(model_.fine.parameter_count(), 0.0f);
+  renderer_.backward(model_, v_coarse_, v_fine_, coarse_grad_, fine_grad_);
+  result.timings.backward = ms_since(start);
+
+  start = Clock::now();
+  const float lr = learning_rate();
+  coarse_adam_.step(model_.coarse.parameters(), coarse_grad_, lr);
+  fine_adam_.step(model_.fine.parameters(), fine_grad_, lr);
+  if (!all_finite(model_.coarse.parameters())) throw TrainingDiverged(iteration, "coarse_network");
+  if (!all_finite(model_.fine.parameters())) throw TrainingDiverged(iteration, "fine_network");
+  if (iteration % kLastGoodInterval == 0) last_good_model_ = model_;
+  result.timings.optimizer = ms_since(start);
+
+  start = Clock::now();
+  if (iteration >= config_.occupancy_warmup && iteration % config_.occupancy_interval == 0)
+    update_occupancy();
+  result.timings.densify = ms_since(start);  // the grid update is this method's "densify"
+  iteration_ = iteration;
+  return result;
+}
+
+Evaluation NerfTrainer::evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) {
+  Evaluation e;
+  double psnr_sum = 0, ssim_sum = 0;
+  if (renders) renders->clear();
+  for (const DatasetView& view : views) {
+    Image image = renderer_.render_image(model_, view.camera, config_.background);
+    for (float& v : image.data) v = std::clamp(v, 0.0f, 1.0f);
+    const double p = psnr(image, view.image), s = ssim(image, view.image);
+    e.view_psnr.push_back(p);
+    psnr_sum += p;
+    ssim_sum += s;
+    if (renders) renders->push_back(std::move(image));
+  }
+  e.views = int(views.size());
+  if (e.views > 0) {
+    e.psnr = psnr_sum / e.views;
+    e.ssim = ssim_sum / e.views;
+  }
+  return e;
+}
+
+void NerfTrainer::check_parameters_finite() const {
+  if (!all_finite(model_.coarse.parameters())) throw TrainingDiverged(iteration_, "coarse_network");
+  if (!all_finite(model_.fine.parameters())) throw TrainingDiverged(iteration_, "fine_network");
+}
+
+void NerfTrainer::save_checkpoint(const std::filesystem::path& file) const {
+  write_atomically(file, [&](const std::filesystem::path& temp) {
+    std::ofstream out(temp, std::ios::binary);
+    out.write(kCheckpointMagic, sizeof(kCheckpointMagic));
+    out.write(reinterpret_cast<const char*>(&kCheckpointVersion), sizeof(kCheckpointVersion));
+    const std::int64_t iteration = iteration_, steps = coarse_adam_.steps();
+    out.write(reinterpret_cast<const char*>(&iteration), sizeof(iteration));
+    out.write(reinterpret_cast<const char*>(&steps), sizeof(steps));
+    std::ostringstream rng_text;
+    rng_text << rng_;
+    const std::string rng = rng_text.str();
+    const std::uint64_t rng_length = rng.size();
+    out.write(reinterpret_cast<const char*>(&rng_length), sizeof(rng_length));
+    out.write(rng.data(), std::streamsize(rng.size()));
+    write_nerf_to(out, model_);
+    write_nerf_to(out, last_good_model_);
+    write_floats(out, coarse_adam_.first_moment());
+    write_floats(out, coarse_adam_.second_moment());
+    write_floats(out, fine_adam_.first_moment());
+    write_floats(out, fine_adam_.second_moment());
+    if (!out) throw InputError(file, "cannot write the checkpoint");
+  });
+}
+
+void NerfTrainer::load_checkpoint(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file, "cannot open the checkpoint");
+  char magic[8] = {};
+  std::uint32_t version = 0;
+  in.read(magic, sizeof(magic));
+  in.read(reinterpret_cast<char*>(&version), sizeof(version));
+  if (!in || std::memcmp(magic, kCheckpointMagic, sizeof(magic)) != 0)
+    throw InputError(file, "not a NeRF checkpoint");
+  if (version != kCheckpointVersion) throw InputError(file, "unsupported NeRF checkpoint version");
+  std::int64_t iteration = 0, steps = 0;
+  std::uint64_t rng_length = 0;
+  in.read(reinterpret_cast<char*>(&iteration), sizeof(iteration));
+  in.read(reinterpret_cast<char*>(&steps), sizeof(steps));
+  in.read(reinterpret_cast<char*>(&rng_length), sizeof(rng_length));
+  if (!in || rng_length > 100000) throw InputError(file, "truncated checkpoint header");
+  std::string rng(rng_length, '\0');
+  in.read(rng.data(), std::streamsize(rng_length));
+  NerfModel model = read_nerf_from(in, file), last_good = read_nerf_from(in, file);
+  if (!(model.settings.coarse == config_.model.coarse) || !(model.settings.fine == config_.model.fine))
+    throw InputError(file, "the checkpoint's networks differ from this run's settings");
+  FlatAdam coarse_adam(model.coarse.parameter_count()), fine_adam(model.fine.parameter_count());
+  read_floats(in, coarse_adam.first_moment(), file);
+  read_floats(in, coarse_adam.second_moment(), file);
+  read_floats(in, fine_adam.first_moment(), file);
+  read_floats(in, fine_adam.second_moment(), file);
+  coarse_adam.set_steps(steps);
+  fine_adam.set_steps(steps);
+  std::istringstream rng_text(rng);
+  std::mt19937 restored_rng;
+  rng_text >> restored_rng;
+  if (!rng_text) throw InputError(file, "bad random state in the checkpoint");
+  model_ = std::move(model);
+  last_good_model_ = std::move(last_good);
+  coarse_adam_ = std::move(coarse_adam);
+  fine_adam_ = std::move(fine_adam);
+  rng_ = restored_rng;
+  iteration_ = int(iteration);
+}
+
+}  // namespace splat

@@ -1,0 +1,74 @@
+#pragma once
+// The NeRF baseline's trainer: random batches of rays across all training images, the
+// coarse and fine networks' colours both fitted with the mean squared error (as the paper),
+// Adam with an exponentially decaying learning rate, and the occupancy grid refreshed from
+// the networks' densities so that rays skip empty space. No printing: the command line
+// reports progress.
+#include <filesystem>
+#include <random>
+#include <vector>
+
+#include "splat/data/dataset.hpp"
+#include "splat/nerf/nerf_model.hpp"
+#include "splat/nerf/nerf_renderer.hpp"
+#include "splat/optim/flat_adam.hpp"
+#include "splat/train/splat_trainer.hpp"  // StepResult, Evaluation, TrainingDiverged
+
+namespace splat {
+
+struct NerfTrainingConfig {
+  int iterations = 20000;
+  double max_seconds = 0;  // wall-clock limit, 0 = none; whichever ends first
+  float background[3] = {1, 1, 1};
+  unsigned seed = 0;
+  int rays_per_batch = 1024;
+  double lr_init = 5e-4, lr_final = 5e-5;  // exponential decay over `iterations`
+  int occupancy_warmup = 256;              // iterations before the grid first prunes
+  int occupancy_interval = 16;             // iterations between grid updates
+  std::size_t occupancy_cells_per_update = 1 << 16;
+  int test_interval = 2000;       // iterations between test evaluations (0 = end only)
+  int checkpoint_interval = 5000;  // iterations between checkpoints (0 = none)
+  NerfSettings model;
+};
+
+nlohmann::json to_json(const NerfTrainingConfig& config);
+// Reads the fields present over `config`; ArgumentError naming an unknown key or bad value.
+void from_json(const nlohmann::json& json, NerfTrainingConfig& config);
+
+class NerfTrainer {
+ public:
+  NerfTrainer(const Dataset& dataset, const NerfTrainingConfig& config);
+
+  // One iteration: a batch of random rays, forward, loss, backward, Adam, maybe a grid
+  // update. Throws TrainingDiverged on a non-finite loss or parameter.
+  StepResult step();
+  // Renders `views` (fine colours) and scores them; `renders` receives the clamped images.
+  Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders = nullptr);
+
+  int iteration() const { return iteration_; }
+  const NerfModel& model() const { return model_; }
+  const NerfModel& last_good_model() const { return last_good_model_; }
+  const NerfTrainingConfig& config() const { return config_; }
+  void check_parameters_finite() const;
+  void save_checkpoint(const std::filesystem::path& file) const;
+  void load_checkpoint(const std::filesystem::path& file);
+
+ private:
+  float learning_rate() const;
+  void update_occupancy();
+
+  const Dataset& dataset_;
+  NerfTrainingConfig config_;
+  NerfModel model_, last_good_model_;
+  FlatAdam coarse_adam_, fine_adam_;
+  std::mt19937 rng_;
+  int iteration_ = 0;
+  NerfRenderer renderer_;
+  std::vector<Ray> rays_;
+  std::vector<float> targets_, v_coarse_, v_fine_, coarse_grad_, fine_grad_;
+  NerfMlpContext density_context_;
+  std::vector<float> density_positions_, density_directions_, density_sigma_, density_rgb_,
+      density_max_;
+};
+
+}  // namespace splat

@@ -1,0 +1,111 @@
+#include "trainer_adapter.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "splat/gaussians/ply_io.hpp"
+#include "splat/nerf/nerf_file.hpp"
+#include "splat/train/nerf_trainer.hpp"
+
+namespace splat::cli {
+
+namespace {
+
+class SplatAdapter final : public TrainerAdapter {
+ public:
+  SplatAdapter(const Dataset& dataset, const SplatTrainingConfig& config) : trainer_(dataset, config) {}
+  std::string method() const override { return "splat"; }
+  RunSchedule schedule() const override {
+    const auto& c = trainer_.config();
+    return {c.iterations, c.max_seconds, c.test_interval, c.checkpoint_interval};
+  }
+  StepResult step() override { return trainer_.step(); }
+  Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) override {
+    return trainer_.evaluate(views, renders);
+  }
+  int iteration() const override { return trainer_.iteration(); }
+  std::size_t num_gaussians() const override { return trainer_.model().size(); }
+  std::size_t num_params() const override {
+    const GaussianModel& m = trainer_.model();
+    return m.size() * (3 + 3 + 4 + 1 + std::size_t(m.sh_coefficients()) * 3);
+  }
+  std::string model_size() const override { return std::to_string(num_gaussians()) + " Gaussians"; }
+  void check_parameters_finite() const override { trainer_.check_parameters_finite(); }
+  void save_checkpoint(const std::filesystem::path& file) const override { trainer_.save_checkpoint(file); }
+  void load_checkpoint(const std::filesystem::path& file) override { trainer_.load_checkpoint(file); }
+  std::string model_file_name() const override { return "model.ply"; }
+  void write_model(const std::filesystem::path& file) const override { write_ply(trainer_.model(), file); }
+  void write_last_good_model(const std::filesystem::path& file) const override {
+    write_ply(trainer_.last_good_model(), file);
+  }
+  nlohmann::json config_json() const override { return to_json(trainer_.config()); }
+  void add_metrics(nlohmann::json& m) const override { m["scene_extent"] = trainer_.scene_extent(); }
+
+ private:
+  SplatTrainer trainer_;
+};
+
+class NerfAdapter final : public TrainerAdapter {
+ public:
+  NerfAdapter(const Dataset& dataset, const NerfTrainingConfig& config) : trainer_(dataset, config) {}
+  std::string method() const override { return "nerf"; }
+  RunSchedule schedule() const override {
+    const auto& c = trainer_.config();
+    return {c.iterations, c.max_seconds, c.test_interval, c.checkpoint_interval};
+  }
+  StepResult step() override { return trainer_.step(); }
+  Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) override {
+    return trainer_.evaluate(views, renders);
+  }
+  int iteration() const override { return trainer_.iteration(); }
+  std::size_t num_gaussians() const override { return 0; }
+  std::size_t num_params() const override { return trainer_.model().parameter_count(); }
+  std::string model_size() const override {
+    char text[64];
+    std::snprintf(text, sizeof(text), "%.2fM parameters, %zu/%zu cells occupied",
+                  double(num_params()) * 1e-6, trainer_.model().grid.occupied_count(),
+                  trainer_.model().grid.cell_count());
+    return text;
+  }
+  void check_parameters_finite() const override { trainer_.check_parameters_finite(); }
+  void save_checkpoint(const std::filesystem::path& file) const override { trainer_.save_checkpoint(file); }
+  void load_checkpoint(const std::filesystem::path& file) override { trainer_.load_checkpoint(file); }
+  std::string model_file_name() const override { return "model.nerf"; }
+  void write_model(const std::filesystem::path& file) const override { write_nerf(trainer_.model(), file); }
+  void write_last_good_model(const std::filesystem::path& file) const override {
+    write_nerf(trainer_.last_good_model(), file);
+  }
+  nlohmann::json config_json() const override { return to_json(trainer_.config()); }
+  void add_metrics(nlohmann::json& m) const override {
+    m["occupied_cells"] = trainer_.model().grid.occupied_count();
+  }
+
+ private:
+  NerfTrainer trainer_;
+};
+
+// Where the NeRF samples: the bounds of the dataset's point cloud, 10% wider, when it has
+// one (COLMAP); otherwise the configured box (NeRF-synthetic scenes sit in [−1.5, 1.5]³).
+NerfTrainingConfig with_scene_box(NerfTrainingConfig config, const Dataset& dataset) {
+  if (!dataset.points || dataset.points->size() == 0) return config;
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  const auto& p = dataset.points->positions;
+  for (std::size_t i = 0; i + 2 < p.size(); i += 3) {
+    const glm::vec3 q(p[i], p[i + 1], p[i + 2]);
+    lo = glm::min(lo, q);
+    hi = glm::max(hi, q);
+  }
+  const glm::vec3 margin = 0.05f * (hi - lo) + 1e-3f;
+  config.model.box = {lo - margin, hi + margin};
+  return config;
+}
+
+}  // namespace
+
+std::unique_ptr<TrainerAdapter> make_trainer(const TrainCommandOptions& options, const Dataset& dataset) {
+  if (options.method == "nerf")
+    return std::make_unique<NerfAdapter>(dataset, with_scene_box(options.nerf_config, dataset));
+  return std::make_unique<SplatAdapter>(dataset, options.config);
+}
+
+}  // namespace splat::cli

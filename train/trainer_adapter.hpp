@@ -1,0 +1,46 @@
+#pragma once
+// One face for the two trainers, so the command line runs either the same way: the same
+// loop, progress, history, test renders, checkpoints, Ctrl-C and divergence handling.
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "splat/data/dataset.hpp"
+#include "splat/train/splat_trainer.hpp"
+#include "train_command.hpp"
+
+namespace splat::cli {
+
+// The limits and intervals the loop needs, whichever the method.
+struct RunSchedule {
+  int iterations = 0;
+  double max_seconds = 0;
+  int test_interval = 0, checkpoint_interval = 0;
+};
+
+class TrainerAdapter {
+ public:
+  virtual ~TrainerAdapter() = default;
+  virtual std::string method() const = 0;         // "splat" | "nerf"
+  virtual RunSchedule schedule() const = 0;
+  virtual StepResult step() = 0;
+  virtual Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) = 0;
+  virtual int iteration() const = 0;
+  virtual std::size_t num_gaussians() const = 0;  // 0 for the NeRF
+  virtual std::size_t num_params() const = 0;
+  virtual std::string model_size() const = 0;     // for the progress line
+  virtual void check_parameters_finite() const = 0;
+  virtual void save_checkpoint(const std::filesystem::path& file) const = 0;
+  virtual void load_checkpoint(const std::filesystem::path& file) = 0;
+  virtual std::string model_file_name() const = 0;  // "model.ply" | "model.nerf"
+  virtual void write_model(const std::filesystem::path& file) const = 0;
+  virtual void write_last_good_model(const std::filesystem::path& file) const = 0;
+  virtual nlohmann::json config_json() const = 0;
+  virtual void add_metrics(nlohmann::json& metrics) const = 0;  // method-specific fields
+};
+
+std::unique_ptr<TrainerAdapter> make_trainer(const TrainCommandOptions& options, const Dataset& dataset);
+
+}  // namespace splat::cli
