@@ -52,7 +52,7 @@ nlohmann::json to_json(const NerfTrainingConfig& c) {
           {"iterations", c.iterations}, {"max_seconds", c.max_seconds},
           {"background", {c.background[0], c.background[1], c.background[2]}},
           {"seed", c.seed}, {"rays_per_batch", c.rays_per_batch},
-          {"lr_init", c.lr_init}, {"lr_final", c.lr_final},
+          {"lr_init", c.lr_init}, {"lr_final", c.lr_final}, {"lr_decay_iterations", c.lr_decay_iterations},
           {"occupancy_warmup", c.occupancy_warmup}, {"occupancy_interval", c.occupancy_interval},
           {"occupancy_cells_per_update", c.occupancy_cells_per_update},
           {"test_interval", c.test_interval}, {"checkpoint_interval", c.checkpoint_interval},
@@ -75,6 +75,7 @@ void from_json(const nlohmann::json& j, NerfTrainingConfig& c) {
       else if (key == "rays_per_batch") c.rays_per_batch = value.get<int>();
       else if (key == "lr_init") c.lr_init = value.get<double>();
       else if (key == "lr_final") c.lr_final = value.get<double>();
+      else if (key == "lr_decay_iterations") c.lr_decay_iterations = value.get<int>();
       else if (key == "occupancy_warmup") c.occupancy_warmup = value.get<int>();
       else if (key == "occupancy_interval") c.occupancy_interval = value.get<int>();
       else if (key == "occupancy_cells_per_update") c.occupancy_cells_per_update = value.get<std::size_t>();
@@ -104,7 +105,7 @@ NerfTrainer::NerfTrainer(const Dataset& dataset, const NerfTrainingConfig& confi
 
 float NerfTrainer::learning_rate() const {
   // Log-linear from lr_init to lr_final over the run, as the paper's exponential decay.
-  const double progress = std::min(1.0, double(iteration_) / double(std::max(1, config_.iterations)));
+  const double progress = std::min(1.0, double(iteration_) / double(std::max(1, config_.lr_decay_iterations)));
   return float(std::exp(std::log(config_.lr_init) * (1 - progress) + std::log(config_.lr_final) * progress));
 }
 

@@ -22,7 +22,10 @@ struct NerfTrainingConfig {
   float background[3] = {1, 1, 1};
   unsigned seed = 0;
   int rays_per_batch = 1024;
-  double lr_init = 5e-4, lr_final = 5e-5;  // exponential decay over `iterations`
+  // Exponential decay from lr_init to lr_final over lr_decay_iterations (then held), a
+  // horizon of its own so that --iters and --resume do not change the schedule.
+  double lr_init = 5e-4, lr_final = 5e-5;
+  int lr_decay_iterations = 20000;
   int occupancy_warmup = 256;              // iterations before the grid first prunes
   int occupancy_interval = 16;             // iterations between grid updates
   std::size_t occupancy_cells_per_update = 1 << 16;
