@@ -244,6 +244,32 @@ TEST(TrainCli, NerfResumeContinuesExactly) {
       << "the resumed NeRF differs from the uninterrupted one";
 }
 
+TEST(TrainCli, NerfDivergenceStopsNamingIterationAndGroupKeepingAGoodModel) {
+  const fs::path dir = test::scratch_dir("train_cli_nerf_diverge");
+  // Adam steps of ~1e37 overflow the networks' activations at once.
+  test::write_text(dir / "explode.json", R"({"lr_init": 1e37, "lr_final": 1e37, "rays_per_batch": 64,
+    "model": {"coarse": {"depth": 2, "width": 16, "skip_layer": -1, "color_width": 8},
+              "fine": {"depth": 2, "width": 16, "skip_layer": -1, "color_width": 8},
+              "coarse_samples": 8, "fine_samples": 8}})");
+  const auto r = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --method nerf --data " +
+                                       tiny_dataset().string() + " --out " + (dir / "out").string() +
+                                       " --iters 50 --quiet --config " + (dir / "explode.json").string(),
+                                   dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("diverged at iteration"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("non-finite"), std::string::npos) << r.err;
+  const nlohmann::json m = read_json(dir / "out" / "metrics.json");
+  EXPECT_EQ(m.at("stopped_by"), "diverged");
+  EXPECT_GT(m.at("diverged").at("iteration").get<int>(), 0);
+  // The last good model is kept and renders.
+  const auto render = test::run_command(std::string(SPLAT_RENDER_EXE) + " --model " +
+                                            (dir / "out" / "model.nerf").string() + " --cameras " +
+                                            (tiny_dataset() / "transforms_test.json").string() +
+                                            " --width 16 --height 16 --out " + (dir / "render").string(),
+                                        dir);
+  EXPECT_EQ(render.exit_code, 0) << render.err;
+}
+
 TEST(TrainCli, NerfRejectsSplatOnlyOptionsAndBadModels) {
   const fs::path dir = test::scratch_dir("train_cli_nerf_bad");
   auto r = test::run_command(nerf_command(dir / "out", "--iters 10 --max-gaussians 100"), dir);
