@@ -11,10 +11,11 @@ namespace splat::cli {
 
 namespace {
 
-class SplatAdapter final : public TrainerAdapter {
+// What both adapters forward to their trainer unchanged (the trainers share these names).
+template <class Trainer, class Config>
+class DelegatingAdapter : public TrainerAdapter {
  public:
-  SplatAdapter(const Dataset& dataset, const SplatTrainingConfig& config) : trainer_(dataset, config) {}
-  std::string method() const override { return "splat"; }
+  DelegatingAdapter(const Dataset& dataset, const Config& config) : trainer_(dataset, config) {}
   RunSchedule schedule() const override {
     const auto& c = trainer_.config();
     return {c.iterations, c.max_seconds, c.test_interval, c.checkpoint_interval};
@@ -24,40 +25,37 @@ class SplatAdapter final : public TrainerAdapter {
     return trainer_.evaluate(views, renders);
   }
   int iteration() const override { return trainer_.iteration(); }
+  void check_parameters_finite() const override { trainer_.check_parameters_finite(); }
+  void save_checkpoint(const std::filesystem::path& file) const override { trainer_.save_checkpoint(file); }
+  void load_checkpoint(const std::filesystem::path& file) override { trainer_.load_checkpoint(file); }
+  nlohmann::json config_json() const override { return to_json(trainer_.config()); }
+
+ protected:
+  Trainer trainer_;
+};
+
+class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingConfig> {
+ public:
+  using DelegatingAdapter::DelegatingAdapter;
+  std::string method() const override { return "splat"; }
   std::size_t num_gaussians() const override { return trainer_.model().size(); }
   std::size_t num_params() const override {
     const GaussianModel& m = trainer_.model();
     return m.size() * (3 + 3 + 4 + 1 + std::size_t(m.sh_coefficients()) * 3);
   }
   std::string model_size() const override { return std::to_string(num_gaussians()) + " Gaussians"; }
-  void check_parameters_finite() const override { trainer_.check_parameters_finite(); }
-  void save_checkpoint(const std::filesystem::path& file) const override { trainer_.save_checkpoint(file); }
-  void load_checkpoint(const std::filesystem::path& file) override { trainer_.load_checkpoint(file); }
   std::string model_file_name() const override { return "model.ply"; }
   void write_model(const std::filesystem::path& file) const override { write_ply(trainer_.model(), file); }
   void write_last_good_model(const std::filesystem::path& file) const override {
     write_ply(trainer_.last_good_model(), file);
   }
-  nlohmann::json config_json() const override { return to_json(trainer_.config()); }
   void add_metrics(nlohmann::json& m) const override { m["scene_extent"] = trainer_.scene_extent(); }
-
- private:
-  SplatTrainer trainer_;
 };
 
-class NerfAdapter final : public TrainerAdapter {
+class NerfAdapter final : public DelegatingAdapter<NerfTrainer, NerfTrainingConfig> {
  public:
-  NerfAdapter(const Dataset& dataset, const NerfTrainingConfig& config) : trainer_(dataset, config) {}
+  using DelegatingAdapter::DelegatingAdapter;
   std::string method() const override { return "nerf"; }
-  RunSchedule schedule() const override {
-    const auto& c = trainer_.config();
-    return {c.iterations, c.max_seconds, c.test_interval, c.checkpoint_interval};
-  }
-  StepResult step() override { return trainer_.step(); }
-  Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) override {
-    return trainer_.evaluate(views, renders);
-  }
-  int iteration() const override { return trainer_.iteration(); }
   std::size_t num_gaussians() const override { return 0; }
   std::size_t num_params() const override { return trainer_.model().parameter_count(); }
   std::string model_size() const override {
@@ -67,21 +65,14 @@ class NerfAdapter final : public TrainerAdapter {
                   trainer_.model().grid.cell_count());
     return text;
   }
-  void check_parameters_finite() const override { trainer_.check_parameters_finite(); }
-  void save_checkpoint(const std::filesystem::path& file) const override { trainer_.save_checkpoint(file); }
-  void load_checkpoint(const std::filesystem::path& file) override { trainer_.load_checkpoint(file); }
   std::string model_file_name() const override { return "model.nerf"; }
   void write_model(const std::filesystem::path& file) const override { write_nerf(trainer_.model(), file); }
   void write_last_good_model(const std::filesystem::path& file) const override {
     write_nerf(trainer_.last_good_model(), file);
   }
-  nlohmann::json config_json() const override { return to_json(trainer_.config()); }
   void add_metrics(nlohmann::json& m) const override {
     m["occupied_cells"] = trainer_.model().grid.occupied_count();
   }
-
- private:
-  NerfTrainer trainer_;
 };
 
 // Where the NeRF samples: the bounds of the dataset's point cloud, 10% wider, when it has

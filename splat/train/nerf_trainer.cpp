@@ -11,25 +11,19 @@
 #include "splat/core/random.hpp"
 #include "splat/eval/metrics.hpp"
 #include "splat/nerf/nerf_file.hpp"
+#include "splat/train/training_support.hpp"
 
 namespace splat {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
+using training::all_finite;
+using training::Clock;
+using training::kLastGoodInterval;
+using training::ms_since;
 
-constexpr int kLastGoodInterval = 100;
 constexpr char kCheckpointMagic[8] = {'S', 'P', 'L', 'N', 'R', 'F', 'C', 'K'};
 constexpr std::uint32_t kCheckpointVersion = 1;
-
-bool all_finite(std::span<const float> values) {
-  for (float v : values)
-    if (!std::isfinite(v)) return false;
-  return true;
-}
 
 void write_floats(std::ostream& out, const std::vector<float>& v) {
   const std::uint64_t n = v.size();
@@ -184,8 +178,7 @@ StepResult NerfTrainer::step() {
   const float lr = learning_rate();
   coarse_adam_.step(model_.coarse.parameters(), coarse_grad_, lr);
   fine_adam_.step(model_.fine.parameters(), fine_grad_, lr);
-  if (!all_finite(model_.coarse.parameters())) throw TrainingDiverged(iteration, "coarse_network");
-  if (!all_finite(model_.fine.parameters())) throw TrainingDiverged(iteration, "fine_network");
+  check_finite(iteration);
   if (iteration % kLastGoodInterval == 0) last_good_model_ = model_;
   result.timings.optimizer = ms_since(start);
 
@@ -218,9 +211,9 @@ Evaluation NerfTrainer::evaluate(const std::vector<DatasetView>& views, std::vec
   return e;
 }
 
-void NerfTrainer::check_parameters_finite() const {
-  if (!all_finite(model_.coarse.parameters())) throw TrainingDiverged(iteration_, "coarse_network");
-  if (!all_finite(model_.fine.parameters())) throw TrainingDiverged(iteration_, "fine_network");
+void NerfTrainer::check_finite(int iteration) const {
+  if (!all_finite(model_.coarse.parameters())) throw TrainingDiverged(iteration, "coarse_network");
+  if (!all_finite(model_.fine.parameters())) throw TrainingDiverged(iteration, "fine_network");
 }
 
 void NerfTrainer::save_checkpoint(const std::filesystem::path& file) const {

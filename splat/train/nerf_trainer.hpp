@@ -52,12 +52,14 @@ class NerfTrainer {
   const NerfModel& model() const { return model_; }
   const NerfModel& last_good_model() const { return last_good_model_; }
   const NerfTrainingConfig& config() const { return config_; }
-  void check_parameters_finite() const;
+  void check_parameters_finite() const { check_finite(iteration_); }
   void save_checkpoint(const std::filesystem::path& file) const;
   void load_checkpoint(const std::filesystem::path& file);
 
  private:
   float learning_rate() const;
+  // Throws TrainingDiverged naming `iteration` and the first network with a non-finite value.
+  void check_finite(int iteration) const;
   void update_occupancy();
 
   const Dataset& dataset_;

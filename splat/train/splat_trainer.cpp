@@ -8,32 +8,16 @@
 #include "splat/eval/metrics.hpp"
 #include "splat/gaussians/initialization.hpp"
 #include "splat/optim/lr_schedule.hpp"
+#include "splat/train/training_support.hpp"
 
 namespace splat {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-// Keeps the parameters this often (iterations) once they are checked finite, so a diverged
-// run can still hand back a good model.
-constexpr int kLastGoodInterval = 100;
-
-// True if every value is finite. A sum is non-finite as soon as one term is (or overflows,
-// which is as much a divergence), so one parallel reduction checks a whole group.
-bool all_finite(const std::vector<float>& values) {
-  const double sum = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, values.size(), 1 << 16), 0.0,
-      [&](const tbb::blocked_range<std::size_t>& r, double acc) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) acc += values[i];
-        return acc;
-      },
-      [](double a, double b) { return a + b; });
-  return std::isfinite(sum);
-}
+using training::all_finite;
+using training::Clock;
+using training::kLastGoodInterval;
+using training::ms_since;
 
 GaussianModel initial_model(const Dataset& dataset, const SplatTrainingConfig& config) {
   if (dataset.points && dataset.points->size() > 0)
