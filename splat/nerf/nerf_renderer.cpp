@@ -35,14 +35,12 @@ void NerfRenderer::place_coarse(const NerfModel& model, std::span<const Ray> ray
   pass.offsets.assign(rays.size() + 1, 0);
   pass.t.clear();
   pass.delta.clear();
-  ray_far_.assign(rays.size(), 0.0f);
   scratch_t_.resize(std::size_t(n));
   scratch_delta_.resize(std::size_t(n));
   for (std::size_t r = 0; r < rays.size(); ++r) {
     pass.offsets[r] = std::uint32_t(pass.t.size());
     const auto bounds = intersect_box(rays[r], model.settings.box, model.settings.near);
     if (!bounds) continue;
-    ray_far_[r] = bounds->far;
     stratified_samples(*bounds, jitter, rng, scratch_t_, scratch_delta_);
     const std::size_t kept = drop_empty_samples(model.grid, rays[r], scratch_t_, scratch_delta_);
     pass.t.insert(pass.t.end(), scratch_t_.begin(), scratch_t_.begin() + std::ptrdiff_t(kept));
@@ -71,7 +69,7 @@ void NerfRenderer::place_fine(const NerfModel& model, std::span<const Ray> rays,
         cw(&coarse.render.weights[begin], n);
     scratch_t_.resize(n + n_fine);
     scratch_delta_.resize(n + n_fine);
-    hierarchical_samples(ct, cd, cw, ray_far_[r], jitter, rng, scratch_fine_, scratch_t_, scratch_delta_);
+    hierarchical_samples(ct, cd, cw, jitter, rng, scratch_fine_, scratch_t_, scratch_delta_);
     pass.t.insert(pass.t.end(), scratch_t_.begin(), scratch_t_.end());
     pass.delta.insert(pass.delta.end(), scratch_delta_.begin(), scratch_delta_.end());
   }

@@ -63,7 +63,6 @@ class NerfRenderer {
                             const float background[3], std::span<float> v_params);
 
   Pass coarse_, fine_;
-  std::vector<float> ray_far_;  // [R] box exit, for the fine merge
   std::vector<float> scratch_t_, scratch_delta_, scratch_fine_;
   float background_[3] = {1, 1, 1};
   std::vector<Ray> image_rays_;

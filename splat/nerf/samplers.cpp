@@ -1,6 +1,7 @@
 #include "splat/nerf/samplers.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <string>
 
@@ -67,20 +68,41 @@ void importance_samples(std::span<const float> t, std::span<const float> delta,
   }
 }
 
-void merge_samples(std::span<const float> coarse, std::span<const float> fine, float far,
-                   std::span<float> t, std::span<float> delta) {
-  check_same_size(coarse.size() + fine.size(), t.size(), "merge_samples: coarse + fine and t");
+void merge_samples(std::span<const float> coarse_t, std::span<const float> coarse_delta,
+                   std::span<const float> fine, std::span<float> t, std::span<float> delta) {
+  check_same_size(coarse_t.size(), coarse_delta.size(), "merge_samples: coarse t and delta");
+  check_same_size(coarse_t.size() + fine.size(), t.size(), "merge_samples: coarse + fine and t");
   check_same_size(t.size(), delta.size(), "merge_samples: t and delta");
-  std::merge(coarse.begin(), coarse.end(), fine.begin(), fine.end(), t.begin());
-  deltas_from_positions(t, far, delta);
+  // Two-way merge that remembers where the current coarse interval ends; on a tie the coarse
+  // sample comes first, so a fine sample at an interval's start belongs to that interval.
+  // Each sample's δ is set once the next position is known.
+  const std::size_t n_coarse = coarse_t.size(), n = t.size();
+  std::size_t c = 0, f = 0;
+  float previous_end = 0.0f;
+  for (std::size_t i = 0; i < n; ++i) {
+    float end = previous_end;
+    if (c < n_coarse && (f == fine.size() || coarse_t[c] <= fine[f])) {
+      t[i] = coarse_t[c];
+      end = coarse_t[c] + coarse_delta[c];
+      // t + (t_next − t) can round one ulp short of t_next: contiguous intervals stay contiguous.
+      if (c + 1 < n_coarse && std::nextafter(end, coarse_t[c + 1]) >= coarse_t[c + 1])
+        end = std::max(end, coarse_t[c + 1]);
+      ++c;
+    } else {
+      t[i] = fine[f++];
+    }
+    if (i > 0) delta[i - 1] = std::max(0.0f, std::min(t[i], previous_end) - t[i - 1]);
+    previous_end = end;
+  }
+  if (n > 0) delta[n - 1] = std::max(0.0f, previous_end - t[n - 1]);
 }
 
 void hierarchical_samples(std::span<const float> coarse_t, std::span<const float> coarse_delta,
-                          std::span<const float> coarse_weights, float far, bool jitter,
+                          std::span<const float> coarse_weights, bool jitter,
                           std::mt19937& rng, std::span<float> fine_scratch, std::span<float> t,
                           std::span<float> delta) {
   importance_samples(coarse_t, coarse_delta, coarse_weights, jitter, rng, fine_scratch);
-  merge_samples(coarse_t, fine_scratch, far, t, delta);
+  merge_samples(coarse_t, coarse_delta, fine_scratch, t, delta);
 }
 
 }  // namespace splat

@@ -43,17 +43,20 @@ void importance_samples(std::span<const float> t, std::span<const float> delta,
                         std::span<const float> weights, bool jitter, std::mt19937& rng,
                         std::span<float> t_fine);
 
-// Merges two sorted lists of positions into `t` (size coarse + fine) and recomputes the
-// lengths as for stratified samples: δᵢ = tᵢ₊₁ − tᵢ, the last δ = far − t_last.
-// Throws ArgumentError on mismatched sizes.
-void merge_samples(std::span<const float> coarse, std::span<const float> fine, float far,
-                   std::span<float> t, std::span<float> delta);
+// Merges the coarse samples (positions and lengths) with sorted fine positions drawn inside
+// the coarse intervals (importance_samples) into `t` and `delta` (size coarse + fine). Each
+// merged sample's interval runs to the next sample but never past the end of the coarse
+// interval that holds it: where the coarse intervals leave gaps (samples dropped in empty
+// cells), no sample's density is stretched across a gap. Without gaps this is
+// δᵢ = tᵢ₊₁ − tᵢ and the last δ = the coarse end (far). Throws ArgumentError on mismatched sizes.
+void merge_samples(std::span<const float> coarse_t, std::span<const float> coarse_delta,
+                   std::span<const float> fine, std::span<float> t, std::span<float> delta);
 
 // The fine pass of one ray in one call: importance_samples into `fine_scratch` (its size is
-// n_fine), then merge_samples with the coarse positions into t and delta (size n_coarse +
+// n_fine), then merge_samples with the coarse samples into t and delta (size n_coarse +
 // n_fine).
 void hierarchical_samples(std::span<const float> coarse_t, std::span<const float> coarse_delta,
-                          std::span<const float> coarse_weights, float far, bool jitter,
+                          std::span<const float> coarse_weights, bool jitter,
                           std::mt19937& rng, std::span<float> fine_scratch, std::span<float> t,
                           std::span<float> delta);
 

@@ -68,8 +68,7 @@ TEST(NerfSampler, HierarchicalSamplesConcentrateOnTheWeights) {
   for (bool jitter : {true, false}) {
     std::mt19937 rng(9);
     std::vector<float> fine(n_fine), t(n_coarse + n_fine), delta(n_coarse + n_fine);
-    hierarchical_samples(coarse.t, coarse.delta, coarse.weights, kBounds.far, jitter, rng, fine,
-                         t, delta);
+    hierarchical_samples(coarse.t, coarse.delta, coarse.weights, jitter, rng, fine, t, delta);
     const float lo = coarse.t[spike], hi = coarse.t[spike] + coarse.delta[spike];
     const auto in_spike = std::count_if(fine.begin(), fine.end(),
                                         [&](float x) { return x >= lo && x <= hi; });
@@ -82,8 +81,25 @@ TEST(NerfSampler, HierarchicalSamplesConcentrateOnTheWeights) {
     std::sort(expected.begin(), expected.end());
     EXPECT_EQ(t, expected);
     for (std::size_t i = 0; i + 1 < t.size(); ++i) EXPECT_EQ(delta[i], t[i + 1] - t[i]);
-    EXPECT_EQ(delta.back(), kBounds.far - t.back());
+    EXPECT_FLOAT_EQ(delta.back(), kBounds.far - t.back());
   }
+}
+
+TEST(NerfSampler, MergedIntervalsNeverSpanAGapBetweenCoarseIntervals) {
+  // Coarse intervals [1, 1.5] and [3, 3.5] (the samples between them were in empty cells).
+  const std::vector<float> coarse_t = {1.0f, 3.0f}, coarse_delta = {0.5f, 0.5f};
+  const std::vector<float> fine = {1.25f, 3.0f, 3.25f};
+  std::vector<float> t(5), delta(5);
+  merge_samples(coarse_t, coarse_delta, fine, t, delta);
+  EXPECT_EQ(t, (std::vector<float>{1.0f, 1.25f, 3.0f, 3.0f, 3.25f}));
+  // 1.25 ends at its coarse interval's end (1.5), not at the next sample (3.0).
+  EXPECT_EQ(delta, (std::vector<float>{0.25f, 0.25f, 0.0f, 0.25f, 0.25f}));
+  // Without the gap (second interval starting at 1.5) the lengths reach the next sample.
+  const std::vector<float> contiguous_t = {1.0f, 1.5f}, contiguous_delta = {0.5f, 0.5f};
+  const std::vector<float> fine2 = {1.25f};
+  std::vector<float> t2(3), delta2(3);
+  merge_samples(contiguous_t, contiguous_delta, fine2, t2, delta2);
+  EXPECT_EQ(delta2, (std::vector<float>{0.25f, 0.25f, 0.5f}));
 }
 
 TEST(NerfSampler, HierarchicalWithZeroWeightsGivesEveryIntervalTheSameShare) {
@@ -132,6 +148,8 @@ TEST(NerfSampler, RejectsMismatchedSizes) {
   std::mt19937 rng(0);
   EXPECT_THROW(stratified_samples(kBounds, true, rng, t, delta), ArgumentError);
   EXPECT_THROW(importance_samples({}, {}, {}, true, rng, fine), ArgumentError);
+  std::vector<float> merged(5), merged_delta(5);
+  EXPECT_THROW(merge_samples(t, delta, fine, merged, merged_delta), ArgumentError);
 }
 
 }  // namespace
