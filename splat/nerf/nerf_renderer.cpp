@@ -8,7 +8,10 @@ namespace splat {
 
 namespace {
 
-constexpr std::size_t kImageBatchRays = 4096;
+// Rays per batch when rendering an image: the training batch size, so evaluation needs no
+// more memory for the networks' activations than training does (the GEMMs already have tens
+// of thousands of rows at this size).
+constexpr std::size_t kImageBatchRays = 1024;
 
 // Fills the network inputs (sample points and the ray's direction) of a placed pass.
 void fill_inputs(std::span<const Ray> rays, const std::vector<std::uint32_t>& offsets,

@@ -23,8 +23,10 @@ struct NerfTrainingConfig {
   unsigned seed = 0;
   int rays_per_batch = 1024;
   // Exponential decay from lr_init to lr_final over lr_decay_iterations (then held), a
-  // horizon of its own so that --iters and --resume do not change the schedule.
-  double lr_init = 5e-4, lr_final = 5e-5;
+  // horizon of its own so that --iters and --resume do not change the schedule. Ten times
+  // the paper's rates: with a batch of 1,024 rays they reach a given PSNR in a fraction of
+  // the time and stay stable (probes in bench/README.md, P4).
+  double lr_init = 5e-3, lr_final = 2.5e-4;
   int lr_decay_iterations = 20000;
   int occupancy_warmup = 256;              // iterations before the grid first prunes
   int occupancy_interval = 16;             // iterations between grid updates
