@@ -291,7 +291,7 @@ int run_train_command(const TrainCommandOptions& options) {
     std::printf("data: %s (%zu train, %zu test views, %s), scene extent %.3f\n",
                 options.data.string().c_str(), dataset.train.size(), dataset.test.size(),
                 dataset.points ? (std::to_string(dataset.points->size()) + " points").c_str()
-                               : "random initialisation",
+                               : "no point cloud",
                 dataset.scene_extent);
   TrainingRun run(options, dataset);
   return run.run();
