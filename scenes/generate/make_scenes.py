@@ -636,8 +636,10 @@ def model_depth_range():
         node("letter_box", box(0.6, 0.6, 0.6), "letters", translation=(-0.25, -0.7, 0.1),
              rotation=quat_axis_angle((0, 1, 0), 25)),
         node("banded_sphere", uv_sphere(0.3), "bands", translation=(0.4, -0.7, -0.1)),
-        # Floor at y = -1: 30 x 30, checker tile repeated every 1 unit.
-        node("floor", plane(30.0, 30.0, uv_repeat=30.0), "floor", translation=(0, -1.0, 0)),
+        # Floor at y = -1: 30 x 30, checker tile repeated every 1 unit. Split into 1-unit
+        # squares so rasterizers that clip whole triangles at the near plane still draw it.
+        node("floor", plane(30.0, 30.0, uv_repeat=30.0, divisions=30), "floor",
+             translation=(0, -1.0, 0)),
         # Wall: radius 12, from y = -1 to y = 7; bricks repeated 24 times round, 4 up.
         node("wall", cylinder(12.0, 8.0, 96, caps=False, inward=True, u_repeat=24.0,
                               v_repeat=4.0), "brick", translation=(0, 3.0, 0)),
@@ -657,10 +659,10 @@ def model_simple():
         "blue": material((0.15, 0.30, 0.80, 1), roughness=0.9),
     }
     nodes = [
-        node("red_box", box(0.8, 0.8, 0.8), "red", translation=(-0.35, -0.3, 0.1),
+        node("red_box", box(0.7, 0.7, 0.7), "red", translation=(-0.35, -0.35, 0.1),
              rotation=quat_axis_angle((0, 1, 0), 20)),
-        node("green_sphere", uv_sphere(0.4), "green", translation=(0.55, -0.3, 0.3)),
-        node("blue_box", box(0.5, 0.9, 0.5), "blue", translation=(0.35, -0.25, -0.55),
+        node("green_sphere", uv_sphere(0.35), "green", translation=(0.5, -0.35, 0.3)),
+        node("blue_box", box(0.5, 0.9, 0.5), "blue", translation=(0.3, -0.25, -0.45),
              rotation=quat_axis_angle((0, 1, 0), -15)),
     ]
     return nodes, materials, {}
@@ -682,10 +684,13 @@ def main():
     fill = point((2.0, 3.0, 2.0), 20.0, (1.0, 0.95, 0.9))
     amb = [0.25, 0.25, 0.25]
     std = dict(radius=4.0, elevation=(10, 60), fov=40, size=(200, 200))
+    # The toy and the simple shapes sit on the ground (y ~ -0.5 .. -0.7): aim a little below
+    # the origin and come closer so they fill the frame.
+    low = dict(radius=3.5, elevation=(10, 60), fov=40, size=(200, 200), target=(0, -0.2, 0))
 
     write_spec("default", "Textured toy (letter box, banded sphere, cylinder, plinth): "
                "the main demo scene, trains well in a couple of minutes.",
-               "models/default.gltf", orbit(train=60, test=12, **std), [key, fill], amb, None)
+               "models/default.gltf", orbit(train=60, test=12, **low), [key, fill], amb, None)
     write_spec("fine_texture", "High-frequency texture (stripes to 2 texels, 4-texel checker, "
                "zone plate, block noise at 512x512) on a cube: fine detail and aliasing.",
                "models/fine_texture.gltf",
@@ -704,10 +709,10 @@ def main():
                orbit(4.0, (5, 25), 60, (200, 200), 60, 12, target=(0, -0.4, 0)),
                [directional((-0.4, -1.0, -0.3), 2.0)], [0.35, 0.35, 0.38], [0.55, 0.68, 0.85])
     write_spec("few_views", "Sparse views: the default toy with only 8 training views.",
-               "models/default.gltf", orbit(train=8, test=12, **std), [key, fill], amb, None)
+               "models/default.gltf", orbit(train=8, test=12, **low), [key, fill], amb, None)
     write_spec("simple", "Simple scene: three matte solid-coloured shapes; a few thousand "
                "Gaussians should suffice.", "models/simple.gltf",
-               orbit(train=60, test=12, **std), [key, fill], amb, None)
+               orbit(train=60, test=12, **low), [key, fill], amb, None)
 
     import check_gltf  # same directory; re-reads everything just written
     if not check_gltf.check_all(SCENES_DIR):
