@@ -503,8 +503,20 @@ def write_spec(name, description, gltf, cameras, lights, ambient, background,
             "ambient": ambient, "background": background,
             "samples_per_pixel": samples_per_pixel, "seed": seed}
     with open(os.path.join(SCENES_DIR, name + ".json"), "w", newline="\n") as fh:
-        json.dump(spec, fh, indent=2)
-        fh.write("\n")
+        fh.write(compact_json(spec) + "\n")
+
+
+def compact_json(value, indent=0):
+    """JSON with objects one key per line but lists of numbers on one line (easy to read)."""
+    pad = "  " * (indent + 1)
+    if isinstance(value, dict):
+        items = ['%s%s: %s' % (pad, json.dumps(k), compact_json(v, indent + 1))
+                 for k, v in value.items()]
+        return "{\n" + ",\n".join(items) + "\n" + "  " * indent + "}"
+    if isinstance(value, list) and any(isinstance(v, (dict, list)) for v in value):
+        items = [pad + compact_json(v, indent + 1) for v in value]
+        return "[\n" + ",\n".join(items) + "\n" + "  " * indent + "]"
+    return json.dumps(value)
 
 
 def orbit(radius, elevation, fov, size, train, test, target=(0, 0, 0)):
@@ -689,7 +701,7 @@ def main():
     low = dict(radius=3.5, elevation=(10, 60), fov=40, size=(200, 200), target=(0, -0.2, 0))
 
     write_spec("default", "Textured toy (letter box, banded sphere, cylinder, plinth): "
-               "the main demo scene, trains well in a couple of minutes.",
+               "the main demo scene, mid-frequency texture on a few simple shapes.",
                "models/default.gltf", orbit(train=60, test=12, **low), [key, fill], amb, None)
     write_spec("fine_texture", "High-frequency texture (stripes to 2 texels, 4-texel checker, "
                "zone plate, block noise at 512x512) on a cube: fine detail and aliasing.",
@@ -710,8 +722,8 @@ def main():
                [directional((-0.4, -1.0, -0.3), 2.0)], [0.35, 0.35, 0.38], [0.55, 0.68, 0.85])
     write_spec("few_views", "Sparse views: the default toy with only 8 training views.",
                "models/default.gltf", orbit(train=8, test=12, **low), [key, fill], amb, None)
-    write_spec("simple", "Simple scene: three matte solid-coloured shapes; a few thousand "
-               "Gaussians should suffice.", "models/simple.gltf",
+    write_spec("simple", "Simple scene: three matte solid-coloured untextured shapes, meant "
+               "to need only a few thousand Gaussians.", "models/simple.gltf",
                orbit(train=60, test=12, **low), [key, fill], amb, None)
 
     import check_gltf  # same directory; re-reads everything just written
