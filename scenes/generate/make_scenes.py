@@ -454,7 +454,8 @@ def write_gltf(path, nodes, materials, images):
     image_names = sorted({materials[n["material"]]["texture"] for n in nodes
                           if materials[n["material"]]["texture"]})
     if image_names:
-        doc["samplers"] = [{"magFilter": 9729, "minFilter": 9987, "wrapS": 10497, "wrapT": 10497}]
+        # Repeat wrap (the glTF default, spelled out): the depth scene tiles its floor/wall.
+        doc["samplers"] = [{"wrapS": 10497, "wrapT": 10497}]
         doc["images"] = [{"name": name, "uri": "data:image/png;base64,"
                           + base64.b64encode(images[name]).decode("ascii")}
                          for name in image_names]
@@ -576,7 +577,7 @@ def model_fine_texture():
 
 def model_thin_structures():
     """A cubic lattice of square bars 12 mm thick (5 bars per edge direction), a ring of
-    3 mm wire round it, and a fan of wires 2-8 mm thick from a small hub on top."""
+    3 mm wire round it, and a fan of wires 2-16 mm thick from a small hub on top."""
     materials = {
         "bars_x": material((0.85, 0.20, 0.15, 1), roughness=0.6),
         "bars_y": material((0.20, 0.70, 0.25, 1), roughness=0.6),
@@ -602,14 +603,10 @@ def model_thin_structures():
     for k in range(8):
         ang = k / 8 * 2 * math.pi
         end = (0.95 * math.cos(ang), 0.3, 0.95 * math.sin(ang))
-        wires.append(rod(hub, end, 0.001 * 2 ** (k // 2 + 0)))
+        wires.append(rod(hub, end, 0.001 * 2 ** (k // 2)))  # radius 1, 1, 2, 2, ... 8 mm
     nodes.append(node("wire_fan", merge(wires), "wire"))
     nodes.append(node("hub", uv_sphere(0.03, 16, 8), "hub", translation=hub))
-    return nodes, materials, images_none()
-
-
-def images_none():
-    return {}
+    return nodes, materials, {}
 
 
 def model_shiny():
