@@ -19,6 +19,7 @@ import json
 import math
 import os
 import struct
+import sys
 import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -576,7 +577,7 @@ def model_fine_texture():
 
 
 def model_thin_structures():
-    """A cubic lattice of square bars 12 mm thick (5 bars per edge direction), a ring of
+    """A cubic lattice of square bars 12-13 mm thick (5 bars per edge direction), a ring of
     3 mm wire round it, and a fan of wires 2-16 mm thick from a small hub on top."""
     materials = {
         "bars_x": material((0.85, 0.20, 0.15, 1), roughness=0.6),
@@ -585,14 +586,17 @@ def model_thin_structures():
         "wire": material((0.90, 0.85, 0.75, 1), metallic=0.0, roughness=0.5),
         "hub": material((0.25, 0.25, 0.25, 1), roughness=0.7),
     }
-    t, side, n = 0.012, 1.0, 5
+    side, n = 1.0, 5
+    # 12, 12.5 and 13 mm for the x, y and z bars: where bars cross, no two faces of different
+    # colours are coplanar (coplanar faces would z-fight in the ray tracer).
+    tx, ty, tz = 0.012, 0.0125, 0.013
     coords = [-side / 2 + k * side / (n - 1) for k in range(n)]
     bars = {"bars_x": [], "bars_y": [], "bars_z": []}
     for a in coords:
         for b in coords:
-            bars["bars_x"].append(transformed(box(side + t, t, t), translation=(0, a, b)))
-            bars["bars_y"].append(transformed(box(t, side + t, t), translation=(a, 0, b)))
-            bars["bars_z"].append(transformed(box(t, t, side + t), translation=(a, b, 0)))
+            bars["bars_x"].append(transformed(box(side + tx, tx, tx), translation=(0, a, b)))
+            bars["bars_y"].append(transformed(box(ty, side + ty, ty), translation=(a, 0, b)))
+            bars["bars_z"].append(transformed(box(tz, tz, side + tz), translation=(a, b, 0)))
     nodes = [node(k, merge(v), k) for k, v in sorted(bars.items())]
     # Equatorial ring of wire, radius 1.0, tube radius 1.5 mm (3 mm thick).
     nodes.append(node("ring", torus(1.0, 0.0015, 128, 8), "wire",
@@ -619,10 +623,11 @@ def model_shiny():
     }
     nodes = [
         # Torus: ring radius 0.72, tube 0.24 (outer radius 0.96), stood up 60 degrees.
-        node("gold_torus", torus(0.72, 0.24), "gold", translation=(0, 0.05, 0),
+        # Its lowest point is at 0.1 - (0.72 sin 60 + 0.24) = -0.7635: it rests on the plinth.
+        node("gold_torus", torus(0.72, 0.24), "gold", translation=(0, 0.1, 0),
              rotation=quat_axis_angle((1, 0, 0), 60)),
-        node("red_ball", uv_sphere(0.3, 64, 32), "gloss_red", translation=(0, 0.05, 0)),
-        node("plinth", cylinder(0.8, 0.1, 64), "plinth", translation=(0, -0.8, 0)),
+        node("red_ball", uv_sphere(0.3, 64, 32), "gloss_red", translation=(0, 0.1, 0)),
+        node("plinth", cylinder(0.8, 0.1, 64), "plinth", translation=(0, -0.813, 0)),  # top -0.763
     ]
     return nodes, materials, {}
 
@@ -704,7 +709,7 @@ def main():
                "zone plate, block noise at 512x512) on a cube: fine detail and aliasing.",
                "models/fine_texture.gltf",
                orbit(3.6, (10, 50), 40, (256, 256), 60, 12), [key, fill], amb, None)
-    write_spec("thin_structures", "Thin structures: a lattice of 12 mm bars, a 3 mm wire ring "
+    write_spec("thin_structures", "Thin structures: a lattice of 12-13 mm bars, a 3 mm wire ring "
                "and a fan of 2-16 mm wires.", "models/thin_structures.gltf",
                orbit(train=60, test=12, **std), [key, fill], [0.3, 0.3, 0.3], None)
     write_spec("shiny", "View-dependent appearance: polished gold torus and glossy red ball "
@@ -723,6 +728,7 @@ def main():
                "to need only a few thousand Gaussians.", "models/simple.gltf",
                orbit(train=60, test=12, **low), [key, fill], amb, None)
 
+    sys.dont_write_bytecode = True  # no __pycache__ in the source tree
     import check_gltf  # same directory; re-reads everything just written
     if not check_gltf.check_all(SCENES_DIR):
         raise SystemExit("self-check failed")
