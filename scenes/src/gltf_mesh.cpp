@@ -217,12 +217,27 @@ Texture decode_texture(const fs::path& file, const tinygltf::Model& model, int t
   return out;
 }
 
+// tinygltf's own (stb) image decoder, wrapped so that a failure names the image's file:
+// tinygltf's message gives only the image's index and name, which is often empty.
+bool load_image_naming_uri(tinygltf::Image* image, int index, std::string* err, std::string* warn,
+                           int width, int height, const unsigned char* bytes, int size, void* user) {
+  if (tinygltf::LoadImageData(image, index, err, warn, width, height, bytes, size, user)) return true;
+  if (err) {
+    while (!err->empty() && (err->back() == '\n' || err->back() == ' ')) err->pop_back();
+    const bool embedded = image->uri.rfind("data:", 0) == 0 || image->uri.empty();
+    *err += embedded ? " (an embedded image)" : " (image \"" + image->uri + "\")";
+    *err += "\n";
+  }
+  return false;
+}
+
 }  // namespace
 
 Mesh load_gltf_mesh(const fs::path& file) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) throw InputError(file, "glTF file not found");
   tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(load_image_naming_uri, nullptr);
   tinygltf::Model model;
   std::string err, warn;
   const bool binary = file.extension() == ".glb" || file.extension() == ".GLB";
