@@ -1,7 +1,7 @@
 #pragma once
 // A glTF 2.0 file flattened into one world-space triangle mesh: node transforms baked into
 // the vertices, every primitive's material kept by index, textures decoded to linear float.
-// The subset read is the one our scenes use (scenes/README.md): triangle primitives, uint16 /
+// The subset read is the one our scenes use: triangle primitives, uint16 /
 // uint32 / no indices, float POSITION / NORMAL / TEXCOORD_0, pbrMetallicRoughness materials
 // with an optional base-colour PNG texture; .gltf (embedded or external buffers) or .glb.
 #include <cstdint>

@@ -1,7 +1,27 @@
 #pragma once
 // A scene spec: the JSON file that says which glTF to render, from where, under which lights,
-// into a dataset (scenes/README.md). Reading is strict: an unknown key or an impossible value
-// is an InputError naming the spec file and the key.
+// into a dataset. Reading is strict: an unknown key or an impossible value
+// is an InputError naming the spec file and the key. Format (// comments allowed):
+//   {
+//     "description": "what this scene tests",            optional
+//     "gltf": "models/toy.gltf",                          relative to the spec file; .gltf or .glb
+//     "cameras": {"rig": "orbit", "target": [0,0,0],     target optional (origin)
+//                 "radius": 4.0,                          > 0
+//                 "elevation_deg": [10, 60],              lo <= hi, both within [-89, 89]
+//                 "fov_deg": 40,                          horizontal, in (0, 180)
+//                 "width": 200, "height": 200,            1..4096
+//                 "train": 60, "test": 12},               train >= 1, test >= 0
+//     "lights": [{"type": "directional", "direction": [-0.3,-1,-0.5], "color": [1,1,1], "intensity": 2},
+//                {"type": "point", "position": [2,3,2], "color": [1,1,1], "intensity": 20}],
+//                                                         optional; color optional (white);
+//                                                         point lights fall off as 1/r²
+//     "ambient": [0.25, 0.25, 0.25],                      optional (0), >= 0
+//     "background": null,                                 optional; null: transparent (alpha =
+//                                                         coverage), or [r,g,b] in [0,1]: opaque
+//     "samples_per_pixel": 16,                            optional (16), 1..1024, jittered
+//     "seed": 0                                           optional (0)
+//   }
+// World up is +Y, as in glTF.
 #include <array>
 #include <filesystem>
 #include <optional>
