@@ -4,6 +4,8 @@
 // The subset read is the one our scenes use: triangle primitives, uint16 /
 // uint32 / no indices, float POSITION / NORMAL / TEXCOORD_0, pbrMetallicRoughness materials
 // with an optional base-colour PNG texture; .gltf (embedded or external buffers) or .glb.
+// Not read: base-colour alpha (everything renders opaque), samplers (textures always wrap
+// with REPEAT and filter bilinearly), texture transforms, other texture slots, extensions.
 #include <cstdint>
 #include <filesystem>
 #include <vector>

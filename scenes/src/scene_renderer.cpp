@@ -76,6 +76,8 @@ RenderedView render_view(const Mesh& mesh, const RayTracer& tracer, const Lighti
               const float jy = spp == 1 ? 0.5f : random.uniform();
               const glm::vec3 dir = world_direction(float(x) + jx, float(y) + jy);
               if (!tracer.intersect(origin, dir, hit)) continue;
+              // Clamped per sample, as a display would: one over-bright highlight sample
+              // must not brighten a whole anti-aliased edge.
               sum += glm::clamp(shade(mesh, tracer, lighting, hit, origin, dir), 0.0f, 1.0f);
               ++hits;
             }

@@ -17,7 +17,7 @@ int wrap(int i, int n) {
   return m < 0 ? m + n : m;
 }
 
-// Cook–Torrance GGX specular term, already multiplied by n·l is not included (caller does).
+// Cook–Torrance GGX specular BRDF D·G·F / (4 n·l n·v); the caller multiplies by n·l.
 glm::vec3 ggx_specular(const glm::vec3& n, const glm::vec3& v, const glm::vec3& l,
                        const glm::vec3& f0, float roughness) {
   const glm::vec3 h = glm::normalize(v + l);

@@ -2,9 +2,7 @@
 // (byteStride), uint16 indices, data URIs, .glb, missing normals and materials, textures.
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <fstream>
-#include <glm/gtc/type_ptr.hpp>
 
 #include "gltf_mesh.hpp"
 #include "scene_test_files.hpp"

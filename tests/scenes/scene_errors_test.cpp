@@ -51,6 +51,11 @@ TEST(SceneErrors, TextureThatDoesNotLoadNamesTheFile) {
   const std::string message = input_error_of([&] { load_gltf_mesh(dir / "textured.gltf"); });
   expect_contains(message, "textured.gltf");
   expect_contains(message, "bad.png");
+  // An image file that is not there at all.
+  test::write_test_gltf(dir / "lost_image.gltf", test::plane_mesh(1, 0), "nowhere.png");
+  const std::string lost = input_error_of([&] { load_gltf_mesh(dir / "lost_image.gltf"); });
+  expect_contains(lost, "lost_image.gltf");
+  expect_contains(lost, "nowhere.png");
 }
 
 TEST(SceneErrors, SpecProblemsNameTheFileAndTheKey) {
