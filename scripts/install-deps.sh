@@ -9,6 +9,7 @@ PACKAGES=(
   libopenimageio-dev openimageio-tools   # the OIIO CMake export references its tools
   libtinygltf-dev libglfw3-dev libtbb-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev
+  python3                                # scenes/generate (scene assets), bench/history.py
 )
 
 missing=()
