@@ -65,9 +65,9 @@ class EvalProgress {
     const double per_eval = evaluations_ > 0 ? eval_seconds_ / evaluations_ : 0;
     const int evals_left = std::max(0, evaluations_per_method_ * kMethods - evaluations_);
     const double eta = std::max(0.0, training_left) + per_eval * evals_left;
-    std::printf("[%s %d/%d] %s: %s of %s trained, iteration %d, ETA %s\n", method_.c_str(),
-                method_index_ + 1, kMethods, stage.c_str(), format_duration(train_seconds).c_str(),
-                format_duration(budget_).c_str(), iteration, format_duration(eta).c_str());
+    std::printf("[%s %d/%d] %s: %.1f of %.1f s trained, iteration %d, ETA %s\n", method_.c_str(),
+                method_index_ + 1, kMethods, stage.c_str(), train_seconds, budget_, iteration,
+                format_duration(eta).c_str());
     std::fflush(stdout);
   }
   void message(const std::string& text) {

@@ -74,7 +74,9 @@ TEST(EvalCli, TrainsBothMethodsAndWritesResultsModelsRendersAndGrids) {
     SCOPED_TRACE(name);
     const double psnr = m.at("final").at("psnr");
     EXPECT_TRUE(std::isfinite(psnr));
-    EXPECT_GT(psnr, 8.0);
+    // Two seconds teach the splats the scene; the NeRF barely starts (about 200 steps), so
+    // for it this only says the score is a sane number.
+    EXPECT_GT(psnr, name == "splat" ? 20.0 : 5.0);
     EXPECT_TRUE(std::isfinite(m.at("final").at("ssim").get<double>()));
     // Trained for about the budget (one step may overrun it), not counting scoring time.
     EXPECT_GE(m.at("train_seconds").get<double>(), 2.0);
