@@ -9,6 +9,7 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include "charts.hpp"
 #include "progress_reporter.hpp"
 #include "splat/core/atomic_file.hpp"
 #include "splat/core/error.hpp"
@@ -230,9 +231,14 @@ int run_eval_command(const EvalCommandOptions& options) {
                                  " * mean over RGB of |render - truth|)"}};
   j["methods"] = nlohmann::json::array();
   for (const MethodResult& r : results) j["methods"].push_back(r.json);
+  progress.message("drawing charts");
+  const std::vector<std::string> charts = write_charts(j["methods"], options.out / "charts");
+  if (charts.empty()) std::fprintf(stderr, "warning: gnuplot not found, no charts drawn (install gnuplot-nox)\n");
+  j["charts"] = nlohmann::json::array();
+  for (const std::string& chart : charts) j["charts"].push_back("charts/" + chart);
   // Last, so a results.json present means the run finished.
   write_json(options.out / "results.json", j);
-  progress.message("outputs: " + (options.out / "results.json").string() + ", splat/, nerf/, grids/");
+  progress.message("outputs: " + (options.out / "results.json").string() + ", splat/, nerf/, grids/, charts/");
   return 0;
 }
 

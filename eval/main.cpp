@@ -23,6 +23,7 @@ with both final models, timing each render. Writes into --out:
   splat/model.ply, splat/test/<view>.png, nerf/model.nerf, nerf/test/<view>.png
   grids/<view>.png      ground truth | splat | NeRF | splat error | NeRF error; an error map
                         is grey min(1, 4 * mean over RGB of |render - truth|)
+  charts/{psnr,ssim}_vs_time.{png,svg}   test scores over training time (gnuplot)
 
   --data DIR                  Blender/NeRF-synthetic or COLMAP folder (as splat-train)
   --out DIR                   output folder (created if missing)

@@ -3,6 +3,7 @@
 // scored over time and rendered, and every output the contract names is there and consistent.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -108,6 +109,14 @@ TEST(EvalCli, TrainsBothMethodsAndWritesResultsModelsRendersAndGrids) {
     EXPECT_EQ(grid.width, 5 * kSize) << view;
     EXPECT_EQ(grid.height, kSize) << view;
   }
+  // Charts through gnuplot (a dependency: scripts/install-deps.sh), PNG and SVG.
+  const std::vector<std::string> charts = j.at("charts");
+  for (const char* chart : {"charts/psnr_vs_time.png", "charts/psnr_vs_time.svg", "charts/ssim_vs_time.png",
+                            "charts/ssim_vs_time.svg"}) {
+    EXPECT_NE(std::find(charts.begin(), charts.end(), chart), charts.end()) << chart;
+    EXPECT_GT(fs::file_size(out / chart), 1000u) << chart;
+  }
+  EXPECT_EQ(read_image(out / "charts" / "psnr_vs_time.png").width, 900);
 }
 
 TEST(EvalCli, MissingDataFolderIsNamedAndLeavesNoOutput) {
