@@ -52,7 +52,7 @@ std::string chart_script(const nlohmann::json& methods) {
     int column;
   } charts[] = {{"psnr_vs_time", "Test PSNR over training time", "test PSNR (dB)", 3},
                 {"ssim_vs_time", "Test SSIM over training time", "test SSIM", 4}};
-  std::string script = "set xlabel 'training time (s)'\nset grid\nset key bottom right\n";
+  std::string script = "set xlabel 'training time (s)'\nset grid\nset key below\n";
   for (const auto& c : charts) {
     script += std::string("set title '") + c.title + "'\nset ylabel '" + c.ylabel + "'\n";
     script += std::string("set terminal pngcairo size 900,540\nset output '") + c.name + ".tmp.png'\n";
