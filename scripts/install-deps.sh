@@ -10,6 +10,7 @@ PACKAGES=(
   libtinygltf-dev libglfw3-dev libtbb-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev
   python3                                # scenes/generate (scene assets), bench/history.py
+  gnuplot-nox                            # splat-eval's charts (run as a subprocess)
 )
 
 missing=()

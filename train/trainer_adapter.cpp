@@ -24,6 +24,7 @@ class DelegatingAdapter : public TrainerAdapter {
   Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) override {
     return trainer_.evaluate(views, renders);
   }
+  Image render(const Camera& camera) override { return trainer_.render(camera); }
   int iteration() const override { return trainer_.iteration(); }
   void check_parameters_finite() const override { trainer_.check_parameters_finite(); }
   void save_checkpoint(const std::filesystem::path& file) const override { trainer_.save_checkpoint(file); }

@@ -27,6 +27,7 @@ class TrainerAdapter {
   virtual RunSchedule schedule() const = 0;
   virtual StepResult step() = 0;
   virtual Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) = 0;
+  virtual Image render(const Camera& camera) = 0;  // clamped, as evaluate() scores it
   virtual int iteration() const = 0;
   virtual std::size_t num_gaussians() const = 0;  // 0 for the NeRF
   virtual std::size_t num_params() const = 0;

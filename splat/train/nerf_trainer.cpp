@@ -190,13 +190,18 @@ StepResult NerfTrainer::step() {
   return result;
 }
 
+Image NerfTrainer::render(const Camera& camera) {
+  Image image = renderer_.render_image(model_, camera, config_.background);
+  for (float& v : image.data) v = std::clamp(v, 0.0f, 1.0f);
+  return image;
+}
+
 Evaluation NerfTrainer::evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) {
   Evaluation e;
   double psnr_sum = 0, ssim_sum = 0;
   if (renders) renders->clear();
   for (const DatasetView& view : views) {
-    Image image = renderer_.render_image(model_, view.camera, config_.background);
-    for (float& v : image.data) v = std::clamp(v, 0.0f, 1.0f);
+    Image image = render(view.camera);
     const double p = psnr(image, view.image), s = ssim(image, view.image);
     e.view_psnr.push_back(p);
     psnr_sum += p;

@@ -49,6 +49,8 @@ class NerfTrainer {
   StepResult step();
   // Renders `views` (fine colours) and scores them; `renders` receives the clamped images.
   Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders = nullptr);
+  // The image evaluate() scores for one camera (clamped to [0, 1]), without scoring it.
+  Image render(const Camera& camera);
 
   int iteration() const { return iteration_; }
   const NerfModel& model() const { return model_; }

@@ -151,17 +151,21 @@ void SplatTrainer::check_parameters_finite() const {
     if (!all_finite(*values)) throw TrainingDiverged(iteration_, name);
 }
 
-Evaluation SplatTrainer::evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) {
-  Evaluation e;
+Image SplatTrainer::render(const Camera& camera) const {
   RenderSettings settings;
   settings.sh_degree = active_sh_degree_;
   std::copy(config_.background, config_.background + 3, settings.background);
   Rasterizer rasterizer;
   RenderResult result;
+  rasterizer.render(model_, camera, settings, result);
+  return clamped(result.color);
+}
+
+Evaluation SplatTrainer::evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) {
+  Evaluation e;
   if (renders) renders->clear();
   for (const DatasetView& view : views) {
-    rasterizer.render(model_, view.camera, settings, result);
-    Image image = clamped(result.color);
+    Image image = render(view.camera);
     const double view_psnr = psnr(image, view.image);
     e.view_psnr.push_back(view_psnr);
     e.psnr += view_psnr;

@@ -59,6 +59,9 @@ class SplatTrainer {
   // Renders `views` with the current model (active SH bands) and scores them. If `renders`
   // is given it receives the clamped images.
   Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders = nullptr);
+  // The image evaluate() scores for one camera (clamped to [0, 1]), without scoring it: what
+  // splat-eval times as the render cost.
+  Image render(const Camera& camera) const;
 
   int iteration() const { return iteration_; }  // iterations completed
   int active_sh_degree() const { return active_sh_degree_; }
