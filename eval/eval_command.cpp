@@ -121,8 +121,15 @@ MethodResult run_method(const EvalCommandOptions& options, const std::string& me
     const auto eval_start = Clock::now();
     const double seconds = train_seconds();
     const Evaluation e = trainer->evaluate(dataset.test, nullptr);
+    // The model's size now (the splat model grows as it densifies): written and measured,
+    // so it is the exact file size, not an estimate.
+    const fs::path sized = options.out / (".size_probe_" + trainer->model_file_name());
+    trainer->write_model(sized);
+    const std::uintmax_t bytes = fs::file_size(sized);
+    fs::remove(sized);
     history.push_back({{"seconds", seconds}, {"iteration", trainer->iteration()},
-                       {"test_psnr", e.psnr}, {"test_ssim", e.ssim}});
+                       {"test_psnr", e.psnr}, {"test_ssim", e.ssim},
+                       {"num_gaussians", trainer->num_gaussians()}, {"model_bytes", bytes}});
     const double spent = seconds_since(eval_start);
     eval_seconds += spent;
     progress.evaluation_done(spent);
