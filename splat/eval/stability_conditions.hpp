@@ -1,0 +1,44 @@
+#pragma once
+// The conditions splat-eval --stability trains under, as changes to a loaded dataset, and
+// the rules that turn a run's outcome into a verdict. Test views are never changed: every
+// condition is scored against the same true images and poses.
+#include <optional>
+#include <string>
+
+#include "splat/data/dataset.hpp"
+
+namespace splat {
+
+// `count` training views spread evenly through the original order (view i·n/count for
+// i < count); the whole set when count ≥ its size. The scene extent is recomputed from the
+// views kept, as it would be for a dataset that only had them.
+Dataset with_training_views(const Dataset& dataset, int count);
+
+// Every training pose perturbed: the camera turned about its own centre by exactly
+// `rotation_deg` about a random axis, and its centre moved by exactly
+// `translation_fraction` × the scene extent in a random direction. Seeded: the same seed
+// gives the same poses.
+Dataset with_pose_noise(const Dataset& dataset, double rotation_deg, double translation_fraction,
+                        unsigned seed);
+
+// The dataset without its point cloud, so the splat trainer starts from random points.
+Dataset without_point_cloud(const Dataset& dataset);
+
+// The PSNR of showing only the background on every test view: what an empty model scores.
+double background_only_psnr(const std::vector<DatasetView>& test, const float background[3]);
+
+enum class Verdict { kOk, kDegraded, kDiverged, kCollapsed };
+const char* verdict_name(Verdict verdict);
+
+struct VerdictRules {
+  double collapse_margin_db = 1.0;  // collapsed: PSNR ≤ background-only PSNR + this
+  double degrade_db = 3.0;          // degraded: PSNR < this method's baseline PSNR − this
+};
+
+// diverged when training stopped on a non-finite value; else collapsed when the model
+// scores no better than the background alone (plus the margin); else degraded when it is
+// `degrade_db` below the same method's baseline run (when there is one); else ok.
+Verdict classify_run(bool diverged, double psnr, double background_psnr,
+                     std::optional<double> baseline_psnr, const VerdictRules& rules = {});
+
+}  // namespace splat
