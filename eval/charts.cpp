@@ -2,8 +2,10 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sys/wait.h>
 
+#include "result_files.hpp"
 #include "splat/core/error.hpp"
 
 namespace splat::cli {
@@ -11,68 +13,175 @@ namespace splat::cli {
 namespace {
 
 namespace fs = std::filesystem;
+using nlohmann::json;
 
-// gnuplot and the shell both see this; single quotes stop the shell from reading anything.
+// One curve or set of points: its legend title, gnuplot style and (x, y) rows. A row's
+// optional label is drawn beside the point.
+struct Series {
+  std::string title, style;
+  std::vector<std::pair<double, double>> points;
+  std::vector<std::string> labels;
+};
+
+struct Chart {
+  std::string name, title, xlabel, ylabel;
+  std::string extra;  // further gnuplot settings (log scales, tics)
+  std::vector<Series> series;
+};
+
 std::string shell_quoted(const std::string& text) {
   std::string quoted = "'";
   for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return quoted + "'";
 }
 
-// One data block per method, in results.json's order, blocks separated by two blank lines so
-// the script selects them with `index`.
-void write_history(const nlohmann::json& methods, const fs::path& file) {
+// A gnuplot single-quoted string: nothing inside is interpreted except '' for a quote.
+std::string gp(const std::string& text) {
+  std::string quoted = "'";
+  for (char c : text) quoted += c == '\'' ? std::string("''") : std::string(1, c);
+  return quoted + "'";
+}
+
+std::string display_name(const std::string& method) { return method == "nerf" ? "NeRF" : method; }
+
+void add_results_charts(const json& results, std::vector<Chart>& charts) {
+  Chart psnr{"psnr_vs_time", "Test PSNR over training time", "training time (s)", "test PSNR (dB)", "", {}};
+  Chart ssim{"ssim_vs_time", "Test SSIM over training time", "training time (s)", "test SSIM", "", {}};
+  Chart bytes{"psnr_vs_model_bytes", "Test PSNR against model size (points over training time)",
+              "model size (MB)", "test PSNR (dB)", "set logscale x\n", {}};
+  Chart render{"render_ms_vs_psnr", "Render time per test view against test PSNR (final models)",
+               "test PSNR (dB)", "render time per view (ms, median)", "set logscale y\n", {}};
+  for (const json& m : results.at("methods")) {
+    const std::string name = display_name(m.at("method"));
+    Series p{name, "linespoints lw 2", {}, {}}, s = p, b = p;
+    for (const json& h : m.at("history")) {
+      p.points.emplace_back(h.at("seconds"), h.at("test_psnr"));
+      s.points.emplace_back(h.at("seconds"), h.at("test_ssim"));
+      b.points.emplace_back(h.at("model_bytes").get<double>() / 1e6, h.at("test_psnr"));
+    }
+    psnr.series.push_back(p);
+    ssim.series.push_back(s);
+    bytes.series.push_back(b);
+    if (m.contains("render_ms_per_view_median"))
+      render.series.push_back({name, "points pt 7 ps 2", {{m["final"]["psnr"], m["render_ms_per_view_median"]}}, {}});
+  }
+  for (Chart* c : {&psnr, &ssim, &bytes, &render}) charts.push_back(*c);
+}
+
+// The sweep's runs as points: (x, y) chosen by `point`, labelled with their budget.
+template <class Point>
+Series sweep_series(const json& sweep, const std::string& title, Point point) {
+  Series s{title, "linespoints pt 5 ps 1.5 dt 2", {}, {}};
+  for (const json& r : sweep.at("runs")) {
+    if (!r.contains("final")) continue;
+    s.points.push_back(point(r));
+    s.labels.push_back(std::to_string(r.at("num_gaussians").get<long>()));
+  }
+  return s;
+}
+
+void add_sweep_charts(const json& sweep, std::vector<Chart>& charts) {
+  Chart chart{"sweep_psnr_vs_gaussians", "Splat test PSNR against the Gaussian budget's model",
+              "Gaussians in the final model", "test PSNR (dB)", "set logscale x\n", {}};
+  chart.series.push_back(sweep_series(sweep, "splat, budget sweep", [](const json& r) {
+    return std::make_pair(r.at("num_gaussians").get<double>(), r.at("final").at("psnr").get<double>());
+  }));
+  if (sweep.contains("smallest_within")) {
+    const json& r = sweep["runs"][sweep["smallest_within"].get<std::size_t>()];
+    chart.series.push_back({"smallest within " + sweep["within_db"].dump() + " dB of the best", "points pt 6 ps 3 lw 2",
+                            {{r["num_gaussians"], r["final"]["psnr"]}}, {}});
+  }
+  charts.push_back(chart);
+  // The sweep also belongs on the size and render-time charts, beside the comparison.
+  for (Chart& c : charts) {
+    if (c.name == "psnr_vs_model_bytes")
+      c.series.push_back(sweep_series(sweep, "splat, budget sweep", [](const json& r) {
+        return std::make_pair(r.at("model_bytes").get<double>() / 1e6, r.at("final").at("psnr").get<double>());
+      }));
+    if (c.name == "render_ms_vs_psnr")
+      c.series.push_back(sweep_series(sweep, "splat, budget sweep", [](const json& r) {
+        return std::make_pair(r.at("final").at("psnr").get<double>(), r.at("render_ms_per_view_median").get<double>());
+      }));
+  }
+}
+
+void add_stability_chart(const json& stability, std::vector<Chart>& charts) {
+  Chart chart{"stability_psnr", "Test PSNR under each condition (diverged runs plotted at 0)", "",
+              "test PSNR (dB)", "set xtics rotate by -30\nset offsets 0.5, 0.5, 0, 0\n", {}};
+  std::string tics;
+  Series per_method[2] = {{"splat", "linespoints pt 7 ps 1.5", {}, {}}, {"NeRF", "linespoints pt 5 ps 1.5", {}, {}}};
+  int x = 0;
+  for (const json& c : stability.at("conditions")) {
+    if (!c.contains("runs")) continue;
+    // Tic labels are format strings to gnuplot: a literal % is written %%.
+    std::string label;
+    for (char ch : c.at("name").get<std::string>()) label += ch == '%' ? std::string("%%") : std::string(1, ch);
+    tics += (tics.empty() ? "" : ", ") + gp(label) + " " + std::to_string(x);
+    for (const json& r : c.at("runs")) {
+      const int m = r.at("method") == "splat" ? 0 : 1;
+      per_method[m].points.emplace_back(x, r.contains("final") ? r["final"]["psnr"].get<double>() : 0.0);
+      per_method[m].labels.push_back(r.at("verdict"));
+    }
+    ++x;
+  }
+  chart.extra += "set xtics (" + tics + ")\n";
+  chart.series = {per_method[0], per_method[1]};
+  if (x > 0 && stability.contains("collapse_psnr")) {
+    const double line = stability["collapse_psnr"];
+    chart.series.push_back({"collapsed at or below (the background alone + margin)", "lines dt 2 lc 'grey'",
+                            {{-0.25, line}, {x - 0.75, line}}, {}});
+  }
+  charts.push_back(chart);
+}
+
+void write_data(const Chart& chart, const fs::path& file) {
   std::ofstream out(file);
-  out << "# seconds iteration test_psnr test_ssim; one block per method\n";
-  for (const auto& m : methods) {
-    out << "# " << m.at("method").get<std::string>() << "\n";
-    for (const auto& h : m.at("history"))
-      out << h.at("seconds").get<double>() << " " << h.at("iteration").get<int>() << " "
-          << h.at("test_psnr").get<double>() << " " << h.at("test_ssim").get<double>() << "\n";
+  out << "# " << chart.title << "; one block per series: x y label\n";
+  for (const Series& s : chart.series) {
+    out << "# " << s.title << "\n";
+    for (std::size_t i = 0; i < s.points.size(); ++i)
+      out << s.points[i].first << " " << s.points[i].second << " \""
+          << (i < s.labels.size() ? s.labels[i] : "") << "\"\n";
     out << "\n\n";
   }
   if (!out) throw InputError(file, "cannot write the file");
 }
 
 // Each chart goes to a temporary name first and is renamed once gnuplot succeeded.
-std::string chart_script(const nlohmann::json& methods) {
-  std::string plot;
-  auto plot_command = [&](int column) {
-    std::string command = "plot ";
-    for (std::size_t i = 0; i < methods.size(); ++i) {
-      const std::string name = methods[i].at("method");
-      command += (i ? ", " : "") + std::string("'history.dat' index ") + std::to_string(i) +
-                 " using 1:" + std::to_string(column) + " with linespoints lw 2 title '" +
-                 (name == "nerf" ? "NeRF" : name) + "'";
+std::string chart_script(const std::vector<Chart>& charts) {
+  std::string script;
+  for (const Chart& c : charts) {
+    script += "reset\nset grid\nset key below\nset title " + gp(c.title) + "\nset xlabel " + gp(c.xlabel) +
+              "\nset ylabel " + gp(c.ylabel) + "\n" + c.extra;
+    std::string plot = "plot ";
+    for (std::size_t i = 0; i < c.series.size(); ++i) {
+      const std::string block = "'" + c.name + ".dat' index " + std::to_string(i);
+      plot += (i ? ", " : "") + block + " using 1:2 with " + c.series[i].style + " title " + gp(c.series[i].title);
+      if (!c.series[i].labels.empty())
+        plot += ", " + block + " using 1:2:3 with labels offset 0,1 font ',9' notitle";
     }
-    return command + "\n";
-  };
-  const struct {
-    const char *name, *title, *ylabel;
-    int column;
-  } charts[] = {{"psnr_vs_time", "Test PSNR over training time", "test PSNR (dB)", 3},
-                {"ssim_vs_time", "Test SSIM over training time", "test SSIM", 4}};
-  std::string script = "set xlabel 'training time (s)'\nset grid\nset key below\n";
-  for (const auto& c : charts) {
-    script += std::string("set title '") + c.title + "'\nset ylabel '" + c.ylabel + "'\n";
-    script += std::string("set terminal pngcairo size 900,540\nset output '") + c.name + ".tmp.png'\n";
-    script += plot_command(c.column);
-    script += std::string("set terminal svg size 900,540\nset output '") + c.name + ".tmp.svg'\nreplot\n";
-    script += "unset output\n";
+    script += "set terminal pngcairo size 900,540\nset output '" + c.name + ".tmp.png'\n" + plot + "\n";
+    script += "set terminal svg size 900,540\nset output '" + c.name + ".tmp.svg'\nreplot\nunset output\n";
   }
   return script;
 }
 
 }  // namespace
 
-std::vector<std::string> write_charts(const nlohmann::json& methods, const fs::path& dir) {
-  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) return {};
+std::vector<std::string> write_charts(const fs::path& out) {
+  std::vector<Chart> charts;
+  if (auto results = read_json_if_present(out / "results.json")) add_results_charts(*results, charts);
+  if (auto sweep = read_json_if_present(out / "sweep.json")) add_sweep_charts(*sweep, charts);
+  if (auto stability = read_json_if_present(out / "stability.json")) add_stability_chart(*stability, charts);
+  if (charts.empty() || std::system("command -v gnuplot > /dev/null 2>&1") != 0) return {};
+
+  const fs::path dir = out / "charts";
   fs::create_directories(dir);
-  write_history(methods, dir / "history.dat");
+  for (const Chart& c : charts) write_data(c, dir / (c.name + ".dat"));
   {
-    std::ofstream out(dir / "charts.gp");
-    out << chart_script(methods);
-    if (!out) throw InputError(dir / "charts.gp", "cannot write the file");
+    std::ofstream script(dir / "charts.gp");
+    script << chart_script(charts);
+    if (!script) throw InputError(dir / "charts.gp", "cannot write the file");
   }
   const std::string command = "cd " + shell_quoted(dir.string()) + " && gnuplot charts.gp > gnuplot.log 2>&1";
   const int status = std::system(command.c_str());
@@ -80,11 +189,10 @@ std::vector<std::string> write_charts(const nlohmann::json& methods, const fs::p
     throw Error("gnuplot failed drawing the charts; its messages are in " + (dir / "gnuplot.log").string());
   fs::remove(dir / "gnuplot.log");
   std::vector<std::string> written;
-  for (const char* name : {"psnr_vs_time", "ssim_vs_time"})
+  for (const Chart& c : charts)
     for (const char* ext : {".png", ".svg"}) {
-      const std::string final_name = std::string(name) + ext;
-      fs::rename(dir / (std::string(name) + ".tmp" + ext), dir / final_name);
-      written.push_back(final_name);
+      fs::rename(dir / (c.name + ".tmp" + ext), dir / (c.name + ext));
+      written.push_back("charts/" + c.name + ext);
     }
   return written;
 }

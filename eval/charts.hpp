@@ -1,18 +1,19 @@
 #pragma once
-// splat-eval's charts: test PSNR and SSIM over training time for both methods, drawn by
-// gnuplot (run as a subprocess on a generated script) as PNG (pngcairo) and SVG.
+// splat-eval's charts, drawn by gnuplot (run as a subprocess on a generated script) as PNG
+// (pngcairo) and SVG, from whichever result files the output folder holds:
+//   results.json   psnr_vs_time, ssim_vs_time, psnr_vs_model_bytes, render_ms_vs_psnr
+//   sweep.json     sweep_psnr_vs_gaussians (and its points on the two charts above)
+//   stability.json stability_psnr
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 namespace splat::cli {
 
-// Writes dir/history.dat (the curves' numbers), dir/charts.gp (the script, kept so a chart
-// can be restyled by hand) and dir/{psnr,ssim}_vs_time.{png,svg}; returns the chart files
-// written, relative to dir. `methods` is results.json's "methods" array. Returns an empty list
-// when gnuplot is not installed (the numbers stay in results.json); throws Error when gnuplot
-// runs and fails, naming its log.
-std::vector<std::string> write_charts(const nlohmann::json& methods, const std::filesystem::path& dir);
+// Writes out/charts/<chart>.{dat,png,svg} and out/charts/charts.gp (the script, kept so a
+// chart can be restyled by hand); returns the chart images written, relative to out
+// ("charts/psnr_vs_time.png", ...). Returns an empty list when gnuplot is not installed (the
+// numbers stay in the JSON); throws Error when gnuplot runs and fails, naming its log.
+std::vector<std::string> write_charts(const std::filesystem::path& out);
 
 }  // namespace splat::cli

@@ -1,10 +1,11 @@
 #pragma once
-// splat-eval's work: train the splat model and the NeRF on one dataset with the same
-// wall-clock budget and threads, score the test views at regular points of training time,
-// render the test views with both final models (timed), and write results.json, the models,
-// the renders and side-by-side comparison grids (DESIGN.md contract).
+// splat-eval's work on one dataset, as one of three runs (eval_modes.hpp): the comparison of
+// both methods under the same wall-clock budget and threads (DESIGN.md contract), the
+// stability conditions, or a sweep of Gaussian budgets. Each ends by redrawing the charts
+// and report.html from every result file in --out.
 #include <filesystem>
 #include <optional>
+#include <vector>
 
 #include "splat/data/dataset.hpp"
 #include "splat/train/nerf_trainer.hpp"
@@ -12,15 +13,26 @@
 
 namespace splat::cli {
 
+struct PoseNoiseLevel {
+  double rotation_deg, translation_fraction;  // of the scene extent
+};
+
+enum class EvalMode { kComparison, kStability, kGaussianSweep };
+
 struct EvalCommandOptions {
+  EvalMode mode = EvalMode::kComparison;
   std::filesystem::path data, out;
-  double max_seconds = 600;          // training budget per method, wall clock
+  double max_seconds = 600;          // training budget per run, wall clock
   std::optional<double> eval_every;  // seconds of training time between test scores; default max/10
   int threads = 0;                   // 0 = all cores
   SplatTrainingConfig splat_config;
   NerfTrainingConfig nerf_config;
   DatasetOptions dataset;
   bool quiet = false;
+  // Stability conditions: training views kept, and pose noise levels.
+  std::vector<int> stability_views = {8, 16, 32};
+  std::vector<PoseNoiseLevel> pose_noise_levels = {{0.25, 0.0025}, {1.0, 0.01}, {3.0, 0.03}};
+  std::vector<std::size_t> sweep_gaussians;  // the sweep's Gaussian budgets
 };
 
 // Returns the process exit status: 0 done (errors are thrown, run_main prints them).

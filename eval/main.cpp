@@ -1,7 +1,9 @@
-// splat-eval --data DIR --out DIR [--max-seconds S] [--threads N] [--eval-every-seconds T]
-//            [--bg white|black] ...
+// splat-eval --data DIR --out DIR [--max-seconds S] [--stability | --sweep-gaussians N,N,...]
+//            [--threads N] [--eval-every-seconds T] [--bg white|black] ...
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <vector>
 
 #include "common/arg_parser.hpp"
 #include "common/run_main.hpp"
@@ -23,11 +25,30 @@ with both final models, timing each render. Writes into --out:
   splat/model.ply, splat/test/<view>.png, nerf/model.nerf, nerf/test/<view>.png
   grids/<view>.png      ground truth | splat | NeRF | splat error | NeRF error; an error map
                         is grey min(1, 4 * mean over RGB of |render - truth|)
-  charts/{psnr,ssim}_vs_time.{png,svg}   test scores over training time (gnuplot)
+  charts/*.{png,svg}    drawn by gnuplot: PSNR and SSIM over training time, PSNR against
+                        model bytes, render time against PSNR (and the runs below)
+  report.html           the tables, charts and grids on one offline page
+
+With --stability, instead: both methods under each condition (all training views; only 8,
+16, 32 of them; training poses turned 0.25/1/3 degrees and moved 0.25/1/3 % of the scene
+extent; random initialisation when the data has a point cloud), each trained S seconds and
+scored once, into stability.json (PSNR, SSIM, time, model size and a verdict per run:
+diverged, collapsed = no better than the background alone + 1 dB, degraded = over 3 dB below
+the method's all-views run, else ok) and stability/<condition>/<method>/.
+
+With --sweep-gaussians N,N,..., instead: the splat method under each Gaussian budget for S
+seconds, into sweep.json (PSNR, Gaussians, bytes, render time; the smallest model within
+0.5 dB of the best is marked) and sweep/<N>/.
+
+Each run redraws the charts and report.html from every result file in --out, so the three
+can share one folder and one report.
 
   --data DIR                  Blender/NeRF-synthetic or COLMAP folder (as splat-train)
   --out DIR                   output folder (created if missing)
-  --max-seconds S             training budget per method in seconds (default 600)
+  --max-seconds S             training budget per run in seconds (default 600)
+  --stability                 run the stability conditions (see above)
+  --stability-views N,N,...   training views kept in the fewer-views conditions (default 8,16,32)
+  --sweep-gaussians N,N,...   run the Gaussian budget sweep with these budgets
   --eval-every-seconds T      score the test views every T seconds of training (default S/10)
   --threads N                 worker threads for both methods (default: all cores)
   --bg white|black            background the RGBA images are composited onto (default white)
@@ -50,14 +71,33 @@ void read_config(const std::string& file, Config& config) {
   }
 }
 
+// "8,16,32": each a whole number >= 1.
+template <class Integer>
+std::vector<Integer> positive_list(const std::string& text, const std::string& option) {
+  std::vector<Integer> values;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t end = std::min(text.find(',', start), text.size());
+    const std::string word = text.substr(start, end - start);
+    char* rest = nullptr;
+    const long long value = std::strtoll(word.c_str(), &rest, 10);
+    if (word.empty() || *rest != '\0' || value < 1 || value > 1000000000)
+      throw splat::ArgumentError(option + " expects whole numbers >= 1 separated by commas, got '" + text + "'");
+    values.push_back(Integer(value));
+    start = end + 1;
+  }
+  return values;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   return splat::cli::run_main([&] {
     splat::cli::ArgParser args(argc, argv,
                                {"data", "out", "max-seconds", "eval-every-seconds", "threads", "bg",
-                                "downscale", "splat-config", "nerf-config"},
-                               {"help", "quiet"});
+                                "downscale", "splat-config", "nerf-config", "sweep-gaussians",
+                                "stability-views"},
+                               {"help", "quiet", "stability"});
     if (args.has("help")) {
       std::fputs(kUsage, stdout);
       return 0;
@@ -94,6 +134,14 @@ int main(int argc, char** argv) {
     options.splat_config.test_interval = options.nerf_config.test_interval = 0;
     options.splat_config.checkpoint_interval = options.nerf_config.checkpoint_interval = 0;
     options.quiet = args.has("quiet");
+    if (args.has("stability") && args.value("sweep-gaussians"))
+      throw splat::ArgumentError("--stability and --sweep-gaussians are separate runs; give one");
+    if (args.has("stability")) options.mode = splat::cli::EvalMode::kStability;
+    if (auto list = args.value("stability-views")) options.stability_views = positive_list<int>(*list, "--stability-views");
+    if (auto list = args.value("sweep-gaussians")) {
+      options.mode = splat::cli::EvalMode::kGaussianSweep;
+      options.sweep_gaussians = positive_list<std::size_t>(*list, "--sweep-gaussians");
+    }
     return splat::cli::run_eval_command(options);
   });
 }

@@ -4,10 +4,9 @@
 #include <cstdio>
 #include <memory>
 
-#include <tbb/global_control.h>
-
 #include "common/arg_parser.hpp"
 #include "common/run_main.hpp"
+#include "common/thread_limit.hpp"
 #include "dataset_writer.hpp"
 #include "gltf_mesh.hpp"
 #include "scene_spec.hpp"
@@ -33,12 +32,9 @@ int main(int argc, char** argv) {
     if (words.size() != 2 || words[0] != "render")
       throw splat::ArgumentError(std::string("expected \"render SCENE --out DIR\"\n") + kUsage);
     const std::filesystem::path out = args.required("out");
-    std::unique_ptr<tbb::global_control> threads;
-    if (const auto n = args.integer("threads")) {
-      if (*n < 1) throw splat::ArgumentError("--threads must be at least 1");
-      threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                      std::size_t(*n));
-    }
+    const auto n = args.integer("threads");
+    if (n && *n < 1) throw splat::ArgumentError("--threads must be at least 1");
+    const auto thread_limit = splat::cli::limit_threads(n.value_or(0));
     const auto start = std::chrono::steady_clock::now();
     // Everything that can be wrong with the inputs is found before the output folder exists.
     const splat::scenes::SceneSpec spec = splat::scenes::load_scene_spec(words[1]);

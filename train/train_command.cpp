@@ -8,10 +8,10 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sys/resource.h>
-#include <tbb/global_control.h>
 #include <tbb/info.h>
 #include <unistd.h>
 
+#include "common/thread_limit.hpp"
 #include "progress_reporter.hpp"
 #include "splat/core/atomic_file.hpp"
 #include "splat/data/image_io.hpp"
@@ -278,10 +278,7 @@ void TrainingRun::write_outputs(const std::string& stopped_by, double train_seco
 }  // namespace
 
 int run_train_command(const TrainCommandOptions& options) {
-  std::unique_ptr<tbb::global_control> threads;
-  if (options.threads > 0)
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                    std::size_t(options.threads));
+  const auto thread_limit = limit_threads(options.threads);
   const Dataset dataset = load_dataset(options.data, options.dataset);
   if (dataset.train.empty()) throw InputError(options.data, "the dataset has no training views");
   std::error_code ec;

@@ -84,4 +84,20 @@ GaussianModel initialize_random(std::size_t count, float half_extent, unsigned s
   return model;
 }
 
+PointCloud evenly_subsampled(const PointCloud& points, std::size_t count) {
+  const std::size_t n = points.size();
+  if (count >= n) return points;
+  PointCloud kept;
+  kept.positions.reserve(3 * count);
+  kept.colors.reserve(3 * count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::size_t source = i * n / count;
+    for (int k = 0; k < 3; ++k) {
+      kept.positions.push_back(points.positions[3 * source + k]);
+      kept.colors.push_back(points.colors[3 * source + k]);
+    }
+  }
+  return kept;
+}
+
 }  // namespace splat

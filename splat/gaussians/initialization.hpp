@@ -36,4 +36,8 @@ GaussianModel initialize_from_points(const PointCloud& points, int sh_degree);
 GaussianModel initialize_random(std::size_t count, float half_extent, unsigned seed,
                                 int sh_degree);
 
+// At most `count` of the points, spread evenly through their order (point i·n/count), so a
+// Gaussian budget also bounds the starting model. The cloud itself when it is small enough.
+PointCloud evenly_subsampled(const PointCloud& points, std::size_t count);
+
 }  // namespace splat

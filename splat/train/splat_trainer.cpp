@@ -19,11 +19,14 @@ using training::Clock;
 using training::kLastGoodInterval;
 using training::ms_since;
 
+// A Gaussian budget (max_gaussians) bounds the starting model too, not only densification.
 GaussianModel initial_model(const Dataset& dataset, const SplatTrainingConfig& config) {
+  const std::size_t budget = config.density.max_gaussians;
   if (dataset.points && dataset.points->size() > 0)
-    return initialize_from_points(*dataset.points, config.sh_degree);
-  return initialize_random(config.random_init_points, config.random_init_half_extent, config.seed,
-                           config.sh_degree);
+    return initialize_from_points(budget > 0 ? evenly_subsampled(*dataset.points, budget) : *dataset.points,
+                                  config.sh_degree);
+  const std::size_t count = budget > 0 ? std::min(config.random_init_points, budget) : config.random_init_points;
+  return initialize_random(count, config.random_init_half_extent, config.seed, config.sh_degree);
 }
 
 Image clamped(const Image& image) {

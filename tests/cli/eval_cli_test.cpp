@@ -51,6 +51,19 @@ std::string eval_command(const fs::path& dir, const fs::path& data, const std::s
          (dir / "nerf.json").string() + " " + extra;
 }
 
+// report.html exists, shows each of `expected`, and every file it names is there.
+void expect_report_files_exist(const fs::path& out, const std::vector<std::string>& expected) {
+  const std::string html = test::read_file(out / "report.html");
+  for (const std::string& file : expected) EXPECT_NE(html.find("\"" + file + "\""), std::string::npos) << file;
+  for (const char* attribute : {"src=\"", "href=\""}) {
+    for (std::size_t at = html.find(attribute); at != std::string::npos; at = html.find(attribute, at + 1)) {
+      const std::size_t start = at + std::string(attribute).size();
+      const std::string file = html.substr(start, html.find('"', start) - start);
+      EXPECT_TRUE(fs::exists(out / file)) << "report.html names a missing file: " << file;
+    }
+  }
+}
+
 TEST(EvalCli, TrainsBothMethodsAndWritesResultsModelsRendersAndGrids) {
   const fs::path dir = test::scratch_dir("eval_cli_basic");
   const fs::path data = tiny_dataset(dir);
@@ -58,7 +71,7 @@ TEST(EvalCli, TrainsBothMethodsAndWritesResultsModelsRendersAndGrids) {
       eval_command(dir, data, "--max-seconds 2 --eval-every-seconds 0.5 --threads 2"), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   // Progress names the method, the stage and the ETA.
-  for (const char* word : {"[splat", "[nerf", "training", "evaluating", "rendering", "ETA"})
+  for (const char* word : {"[splat", "[nerf", "training", "scoring", "rendering", "ETA"})
     EXPECT_NE(r.out.find(word), std::string::npos) << word << " not in:\n" << r.out;
 
   const fs::path out = dir / "out";
@@ -109,14 +122,80 @@ TEST(EvalCli, TrainsBothMethodsAndWritesResultsModelsRendersAndGrids) {
     EXPECT_EQ(grid.width, 5 * kSize) << view;
     EXPECT_EQ(grid.height, kSize) << view;
   }
+  for (const auto& m : methods)
+    for (const auto& h : m.at("history")) {
+      ASSERT_TRUE(h.contains("model_bytes")) << h.dump();
+      EXPECT_GT(h.at("model_bytes").get<std::size_t>(), 0u);
+    }
   // Charts through gnuplot (a dependency: scripts/install-deps.sh), PNG and SVG.
-  const std::vector<std::string> charts = j.at("charts");
-  for (const char* chart : {"charts/psnr_vs_time.png", "charts/psnr_vs_time.svg", "charts/ssim_vs_time.png",
-                            "charts/ssim_vs_time.svg"}) {
-    EXPECT_NE(std::find(charts.begin(), charts.end(), chart), charts.end()) << chart;
-    EXPECT_GT(fs::file_size(out / chart), 1000u) << chart;
-  }
+  for (const char* chart : {"psnr_vs_time", "ssim_vs_time", "psnr_vs_model_bytes", "render_ms_vs_psnr"})
+    for (const char* ext : {".png", ".svg"})
+      EXPECT_GT(fs::file_size(out / "charts" / (std::string(chart) + ext)), 1000u) << chart << ext;
   EXPECT_EQ(read_image(out / "charts" / "psnr_vs_time.png").width, 900);
+  expect_report_files_exist(out, {"charts/psnr_vs_time.png", "charts/render_ms_vs_psnr.png", "grids/view_001.png"});
+}
+
+TEST(EvalCli, StabilityRunsEveryConditionAndGivesEachRunAVerdict) {
+  const fs::path dir = test::scratch_dir("eval_cli_stability");
+  const fs::path data = tiny_dataset(dir);
+  const auto r = test::run_command(eval_command(dir, data, "--stability --stability-views 4,8 --max-seconds 0.5"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const fs::path out = dir / "out";
+  const auto j = nlohmann::json::parse(test::read_file(out / "stability.json"));
+  EXPECT_GT(j.at("background_only_psnr").get<double>(), 0.0);
+  for (const char* rule : {"ok", "degraded", "diverged", "collapsed"}) EXPECT_TRUE(j.at("rules").contains(rule)) << rule;
+  std::vector<std::string> names;
+  for (const auto& c : j.at("conditions")) {
+    const std::string id = c.at("id");
+    names.push_back(id);
+    SCOPED_TRACE(id);
+    // 8 views is the whole dataset: skipped, as is random initialisation (no point cloud).
+    if (id == "views_8" || id == "random_init") {
+      EXPECT_TRUE(c.contains("skipped"));
+      continue;
+    }
+    ASSERT_EQ(c.at("runs").size(), 2u);
+    EXPECT_EQ(c.at("train_views").get<int>(), id == "views_4" ? 4 : 8);
+    for (const auto& run : c.at("runs")) {
+      const std::string verdict = run.at("verdict");
+      EXPECT_TRUE(verdict == "ok" || verdict == "degraded" || verdict == "collapsed" || verdict == "diverged") << verdict;
+      ASSERT_TRUE(run.contains("final")) << run.dump();
+      EXPECT_TRUE(std::isfinite(run.at("final").at("psnr").get<double>()));
+      EXPECT_TRUE(fs::exists(out / run.at("model_file").get<std::string>()));
+    }
+  }
+  const std::vector<std::string> expected = {"baseline", "views_4", "views_8", "pose_noise_0.25deg_0.25pct",
+                                             "pose_noise_1deg_1pct", "pose_noise_3deg_3pct", "random_init"};
+  EXPECT_EQ(names, expected);
+  EXPECT_GT(fs::file_size(out / "charts" / "stability_psnr.png"), 1000u);
+  expect_report_files_exist(out, {"charts/stability_psnr.png"});
+  EXPECT_NE(test::read_file(out / "report.html").find("pose"), std::string::npos);
+}
+
+TEST(EvalCli, GaussianSweepMarksTheSmallestModelWithinHalfADecibelOfTheBest) {
+  const fs::path dir = test::scratch_dir("eval_cli_sweep");
+  const fs::path data = tiny_dataset(dir);
+  const auto r = test::run_command(eval_command(dir, data, "--sweep-gaussians 300,3000 --max-seconds 1"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const fs::path out = dir / "out";
+  const auto j = nlohmann::json::parse(test::read_file(out / "sweep.json"));
+  const auto& runs = j.at("runs");
+  ASSERT_EQ(runs.size(), 2u);
+  double best = 0;
+  for (const auto& run : runs) {
+    EXPECT_LE(run.at("num_gaussians").get<std::size_t>(), run.at("max_gaussians").get<std::size_t>());
+    EXPECT_EQ(fs::file_size(out / run.at("model_file").get<std::string>()), run.at("model_bytes").get<std::size_t>());
+    best = std::max(best, run.at("final").at("psnr").get<double>());
+  }
+  EXPECT_DOUBLE_EQ(j.at("best_psnr").get<double>(), best);
+  // The mark: within 0.5 dB of the best, and no other run within it is smaller.
+  const std::size_t mark = j.at("smallest_within");
+  EXPECT_GE(runs[mark].at("final").at("psnr").get<double>(), best - 0.5);
+  for (const auto& run : runs)
+    if (run.at("final").at("psnr").get<double>() >= best - 0.5)
+      EXPECT_GE(run.at("model_bytes").get<std::size_t>(), runs[mark].at("model_bytes").get<std::size_t>());
+  EXPECT_GT(fs::file_size(out / "charts" / "sweep_psnr_vs_gaussians.png"), 1000u);
+  expect_report_files_exist(out, {"charts/sweep_psnr_vs_gaussians.png"});
 }
 
 TEST(EvalCli, MissingDataFolderIsNamedAndLeavesNoOutput) {
@@ -133,7 +212,9 @@ TEST(EvalCli, MissingDataFolderIsNamedAndLeavesNoOutput) {
 
 TEST(EvalCli, RejectsBadOptions) {
   const fs::path dir = test::scratch_dir("eval_cli_options");
-  for (const char* bad : {"--max-seconds 0", "--eval-every-seconds -1", "--threads 0", "--bg green"}) {
+  for (const char* bad : {"--max-seconds 0", "--eval-every-seconds -1", "--threads 0", "--bg green",
+                          "--sweep-gaussians 10,x", "--sweep-gaussians 0", "--stability-views 8,,16",
+                          "--stability --sweep-gaussians 100"}) {
     const auto r = test::run_command(std::string(SPLAT_EVAL_EXE) + " --data " + dir.string() + " --out " +
                                          (dir / "out").string() + " " + bad,
                                      dir);

@@ -230,5 +230,23 @@ TEST(Initialization, RandomIsDeterministicPerSeed) {
   EXPECT_THROW(initialize_random(10, 0.0f, 7, 1), ArgumentError);
 }
 
+TEST(Initialization, EvenSubsampleKeepsEveryKthPointWithItsColour) {
+  PointCloud cloud;
+  for (int i = 0; i < 10; ++i)
+    for (int k = 0; k < 3; ++k) {
+      cloud.positions.push_back(float(i));
+      cloud.colors.push_back(float(i) / 10);
+    }
+  const PointCloud kept = evenly_subsampled(cloud, 4);  // points 0, 2, 5, 7
+  ASSERT_EQ(kept.size(), 4u);
+  const float expected[] = {0, 2, 5, 7};
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(kept.positions[3 * i + 1], expected[i]);
+    EXPECT_FLOAT_EQ(kept.colors[3 * i + 2], expected[i] / 10);
+  }
+  EXPECT_EQ(evenly_subsampled(cloud, 10).positions, cloud.positions);
+  EXPECT_EQ(evenly_subsampled(cloud, 50).size(), 10u);
+}
+
 }  // namespace
 }  // namespace splat

@@ -1,0 +1,169 @@
+#include "report.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "splat/core/atomic_file.hpp"
+#include "result_files.hpp"
+#include "splat/core/error.hpp"
+
+namespace splat::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string escaped(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '&': out += "&amp;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string fixed(double value, int decimals) {
+  char text[64];
+  std::snprintf(text, sizeof(text), "%.*f", decimals, value);
+  return text;
+}
+
+std::string megabytes(const json& bytes) { return fixed(bytes.get<double>() / 1e6, 2); }
+
+std::string method_name(const json& m) { return m.at("method") == "nerf" ? "NeRF" : "splat"; }
+
+std::string model_size(const json& m) {
+  return m.contains("num_gaussians") ? std::to_string(m["num_gaussians"].get<long>()) + " Gaussians"
+                                     : std::to_string(m.at("num_params").get<long>()) + " parameters";
+}
+
+// A chart as its PNG (what every browser shows), linked to the SVG when there is one.
+void chart(std::ostream& html, const fs::path& out, const std::string& name) {
+  const std::string png = "charts/" + name + ".png", svg = "charts/" + name + ".svg";
+  if (!fs::exists(out / png)) return;
+  html << "<figure><a href=\"" << svg << "\"><img src=\"" << png << "\" alt=\"" << name
+       << "\" width=\"900\"></a></figure>\n";
+}
+
+void comparison_section(std::ostream& html, const fs::path& out, const json& r) {
+  html << "<h2>Splat against NeRF, same budget</h2>\n<p>Dataset <code>" << escaped(r.at("data"))
+       << "</code>: " << r.at("test_views") << " test views at " << r.at("width") << "&times;" << r.at("height")
+       << "; each method trained for " << fixed(r.at("budget_seconds"), 0) << " s of wall-clock time on "
+       << r.at("threads") << " threads, scored every " << fixed(r.at("eval_every_seconds"), 1)
+       << " s of training (scoring not counted).</p>\n";
+  html << "<table><tr><th>method</th><th>test PSNR (dB)</th><th>SSIM</th><th>iterations</th>"
+          "<th>training (s)</th><th>model</th><th>model file (MB)</th><th>render per view (ms, median)</th>"
+          "<th>stopped by</th></tr>\n";
+  for (const json& m : r.at("methods")) {
+    html << "<tr><td>" << method_name(m) << "</td><td>" << fixed(m["final"]["psnr"], 2) << "</td><td>"
+         << fixed(m["final"]["ssim"], 4) << "</td><td>" << m["iterations"] << "</td><td>"
+         << fixed(m["train_seconds"], 1) << "</td><td>" << model_size(m) << "</td><td>"
+         << megabytes(m["model_bytes"]) << "</td><td>" << fixed(m["render_ms_per_view_median"], 1) << "</td><td>"
+         << escaped(m["stopped_by"]) << "</td></tr>\n";
+  }
+  html << "</table>\n";
+  for (const char* name : {"psnr_vs_time", "ssim_vs_time", "psnr_vs_model_bytes", "render_ms_vs_psnr"})
+    chart(html, out, name);
+  html << "<h3>Test views</h3>\n<p>Each row: ground truth | splat | NeRF | splat error | NeRF error; "
+       << escaped(r["grid"]["error_map"]) << ".</p>\n";
+  for (const json& grid : r.value("grids", json::array())) {
+    const std::string file = grid;
+    html << "<figure><img src=\"" << escaped(file) << "\" alt=\"" << escaped(file)
+         << "\" class=\"grid\"><figcaption>" << escaped(fs::path(file).stem().string())
+         << "</figcaption></figure>\n";
+  }
+}
+
+void sweep_section(std::ostream& html, const fs::path& out, const json& s) {
+  const long smallest = s.contains("smallest_within") ? s["smallest_within"].get<long>() : -1;
+  html << "<h2>Model no larger than the scene needs: Gaussian budgets</h2>\n<p>The splat method trained "
+       << fixed(s.at("budget_seconds"), 0) << " s under each budget (<code>--max-gaussians</code>). Best test PSNR "
+       << fixed(s.at("best_psnr"), 2) << " dB; <strong>marked</strong>: the smallest model within "
+       << s.at("within_db") << " dB of it.</p>\n";
+  html << "<table><tr><th>budget</th><th>Gaussians</th><th>model file (MB)</th><th>test PSNR (dB)</th>"
+          "<th>SSIM</th><th>iterations</th><th>render per view (ms)</th></tr>\n";
+  const json& runs = s.at("runs");
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const json& r = runs[i];
+    html << (long(i) == smallest ? "<tr class=\"mark\">" : "<tr>") << "<td>" << r["max_gaussians"] << "</td>";
+    if (!r.contains("final")) {
+      html << "<td colspan=\"6\">diverged at iteration " << r["diverged"]["iteration"] << "</td></tr>\n";
+      continue;
+    }
+    html << "<td>" << r["num_gaussians"] << "</td><td>" << megabytes(r["model_bytes"]) << "</td><td>"
+         << fixed(r["final"]["psnr"], 2) << (long(i) == smallest ? " &#9664; smallest within" : "") << "</td><td>"
+         << fixed(r["final"]["ssim"], 4) << "</td><td>" << r["iterations"] << "</td><td>"
+         << fixed(r["render_ms_per_view_median"], 1) << "</td></tr>\n";
+  }
+  html << "</table>\n";
+  chart(html, out, "sweep_psnr_vs_gaussians");
+}
+
+void stability_section(std::ostream& html, const fs::path& out, const json& s) {
+  html << "<h2>Stability: where the methods fail</h2>\n<p>Dataset <code>" << escaped(s.at("data")) << "</code> ("
+       << s.at("train_views") << " training views); every run trained " << fixed(s.at("budget_seconds"), 0)
+       << " s and was scored on the unchanged test views. Verdicts:</p>\n<ul>\n";
+  for (const char* verdict : {"diverged", "collapsed", "degraded", "ok"})
+    html << "<li><b>" << verdict << "</b>: " << escaped(s["rules"][verdict]) << "</li>\n";
+  html << "</ul>\n<table><tr><th>condition</th><th>training views</th><th>splat PSNR (dB)</th><th>splat verdict</th>"
+          "<th>splat model (MB)</th><th>NeRF PSNR (dB)</th><th>NeRF verdict</th></tr>\n";
+  for (const json& c : s.at("conditions")) {
+    html << "<tr><td>" << escaped(c["name"]) << "</td>";
+    if (c.contains("skipped")) {
+      html << "<td colspan=\"6\">not run: " << escaped(c["skipped"]) << "</td></tr>\n";
+      continue;
+    }
+    html << "<td>" << c["train_views"] << "</td>";
+    for (const json& r : c["runs"]) {
+      const std::string verdict = r["verdict"];
+      const std::string shown = r.contains("diverged")
+                                    ? "diverged at iteration " + r["diverged"]["iteration"].dump()
+                                    : verdict;
+      html << "<td>" << (r.contains("final") ? fixed(r["final"]["psnr"], 2) : "&ndash;") << "</td><td class=\""
+           << verdict << "\">" << escaped(shown) << "</td>";
+      if (r["method"] == "splat") html << "<td>" << (r.contains("model_bytes") ? megabytes(r["model_bytes"]) : "&ndash;") << "</td>";
+    }
+    html << "</tr>\n";
+  }
+  html << "</table>\n";
+  chart(html, out, "stability_psnr");
+}
+
+}  // namespace
+
+fs::path write_report(const fs::path& out) {
+  std::ostringstream html;
+  html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>splat-eval report</title>\n"
+          "<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}"
+          "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:4px 8px;"
+          "text-align:right}th{background:#eee}td:first-child{text-align:left}tr.mark{background:#fff3b0}"
+          ".degraded{background:#ffe0b0}.diverged,.collapsed{background:#ffc0c0}.ok{background:#d8f5d0}"
+          "img.grid{width:100%;image-rendering:pixelated}figure{margin:1em 0}</style></head><body>\n"
+          "<h1>splat-eval report</h1>\n";
+  const auto results = read_json_if_present(out / "results.json");
+  const auto sweep = read_json_if_present(out / "sweep.json");
+  const auto stability = read_json_if_present(out / "stability.json");
+  if (results) comparison_section(html, out, *results);
+  if (sweep) sweep_section(html, out, *sweep);
+  if (stability) stability_section(html, out, *stability);
+  if (!results && !sweep && !stability) html << "<p>No results in this folder yet.</p>\n";
+  html << "</body></html>\n";
+
+  const fs::path file = out / "report.html";
+  write_atomically(file, [&](const fs::path& temp) {
+    std::ofstream stream(temp);
+    stream << html.str();
+    if (!stream) throw InputError(file, "cannot write the file");
+  });
+  return file;
+}
+
+}  // namespace splat::cli
