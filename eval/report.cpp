@@ -36,6 +36,12 @@ std::string fixed(double value, int decimals) {
   return text;
 }
 
+// "600" or "0.5": seconds with a decimal only where it matters.
+std::string seconds(const json& value) {
+  const double s = value.get<double>();
+  return fixed(s, s < 10 ? 1 : 0);
+}
+
 std::string megabytes(const json& bytes) { return fixed(bytes.get<double>() / 1e6, 2); }
 
 std::string method_name(const json& m) { return m.at("method") == "nerf" ? "NeRF" : "splat"; }
@@ -56,7 +62,7 @@ void chart(std::ostream& html, const fs::path& out, const std::string& name) {
 void comparison_section(std::ostream& html, const fs::path& out, const json& r) {
   html << "<h2>Splat against NeRF, same budget</h2>\n<p>Dataset <code>" << escaped(r.at("data"))
        << "</code>: " << r.at("test_views") << " test views at " << r.at("width") << "&times;" << r.at("height")
-       << "; each method trained for " << fixed(r.at("budget_seconds"), 0) << " s of wall-clock time on "
+       << "; each method trained for " << seconds(r.at("budget_seconds")) << " s of wall-clock time on "
        << r.at("threads") << " threads, scored every " << fixed(r.at("eval_every_seconds"), 1)
        << " s of training (scoring not counted).</p>\n";
   html << "<table><tr><th>method</th><th>test PSNR (dB)</th><th>SSIM</th><th>iterations</th>"
@@ -85,7 +91,7 @@ void comparison_section(std::ostream& html, const fs::path& out, const json& r) 
 void sweep_section(std::ostream& html, const fs::path& out, const json& s) {
   const long smallest = s.contains("smallest_within") ? s["smallest_within"].get<long>() : -1;
   html << "<h2>Model no larger than the scene needs: Gaussian budgets</h2>\n<p>The splat method trained "
-       << fixed(s.at("budget_seconds"), 0) << " s under each budget (<code>--max-gaussians</code>). Best test PSNR "
+       << seconds(s.at("budget_seconds")) << " s under each budget (<code>--max-gaussians</code>). Best test PSNR "
        << fixed(s.at("best_psnr"), 2) << " dB; <strong>marked</strong>: the smallest model within "
        << s.at("within_db") << " dB of it.</p>\n";
   html << "<table><tr><th>budget</th><th>Gaussians</th><th>model file (MB)</th><th>test PSNR (dB)</th>"
@@ -109,7 +115,7 @@ void sweep_section(std::ostream& html, const fs::path& out, const json& s) {
 
 void stability_section(std::ostream& html, const fs::path& out, const json& s) {
   html << "<h2>Stability: where the methods fail</h2>\n<p>Dataset <code>" << escaped(s.at("data")) << "</code> ("
-       << s.at("train_views") << " training views); every run trained " << fixed(s.at("budget_seconds"), 0)
+       << s.at("train_views") << " training views); every run trained " << seconds(s.at("budget_seconds"))
        << " s and was scored on the unchanged test views. Verdicts:</p>\n<ul>\n";
   for (const char* verdict : {"diverged", "collapsed", "degraded", "ok"})
     html << "<li><b>" << verdict << "</b>: " << escaped(s["rules"][verdict]) << "</li>\n";
