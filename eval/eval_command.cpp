@@ -31,11 +31,16 @@ int run_eval_command(const EvalCommandOptions& options) {
     case EvalMode::kGaussianSweep: run_gaussian_sweep(options, dataset); break;
   }
 
-  if (!options.quiet) std::printf("drawing charts and report.html\n");
-  const std::vector<std::string> charts = write_charts(options.out);
+  return redraw_report(options.out, options.quiet);
+}
+
+int redraw_report(const std::filesystem::path& out, bool quiet) {
+  if (!std::filesystem::is_directory(out)) throw InputError(out, "no such output folder");
+  if (!quiet) std::printf("drawing charts and report.html\n");
+  const std::vector<std::string> charts = write_charts(out);
   if (charts.empty()) std::fprintf(stderr, "warning: gnuplot not found, no charts drawn (install gnuplot-nox)\n");
-  const fs::path report = write_report(options.out);
-  if (!options.quiet) std::printf("report: %s\n", report.string().c_str());
+  const std::filesystem::path report = write_report(out);
+  if (!quiet) std::printf("report: %s\n", report.string().c_str());
   return 0;
 }
 

@@ -38,4 +38,7 @@ struct EvalCommandOptions {
 // Returns the process exit status: 0 done (errors are thrown, run_main prints them).
 int run_eval_command(const EvalCommandOptions& options);
 
+// Redraws out/charts and out/report.html from the result files already in `out`; returns 0.
+int redraw_report(const std::filesystem::path& out, bool quiet);
+
 }  // namespace splat::cli

@@ -2,11 +2,11 @@
 //            [--threads N] [--eval-every-seconds T] [--bg white|black] ...
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <vector>
 
 #include "common/arg_parser.hpp"
 #include "common/run_main.hpp"
+#include "config_file.hpp"
 #include "eval_command.hpp"
 #include "splat/core/error.hpp"
 
@@ -41,7 +41,7 @@ seconds, into sweep.json (PSNR, Gaussians, bytes, render time; the smallest mode
 0.5 dB of the best is marked) and sweep/<N>/.
 
 Each run redraws the charts and report.html from every result file in --out, so the three
-can share one folder and one report.
+can share one folder and one report. --report (with --out only) just redraws them.
 
   --data DIR                  Blender/NeRF-synthetic or COLMAP folder (as splat-train)
   --out DIR                   output folder (created if missing)
@@ -55,21 +55,9 @@ can share one folder and one report.
   --downscale K               train and evaluate at 1/K of the image size (default 1)
   --splat-config FILE         JSON settings for the splat trainer (as splat-train --config)
   --nerf-config FILE          JSON settings for the NeRF trainer (as splat-train --config)
+  --report                    only redraw the charts and report.html in --out
   --quiet                     no progress output
 )";
-
-template <class Config>
-void read_config(const std::string& file, Config& config) {
-  std::ifstream in(file);
-  if (!in) throw splat::InputError(file, "cannot open the config file");
-  try {
-    splat::from_json(nlohmann::json::parse(in), config);
-  } catch (const nlohmann::json::exception& e) {
-    throw splat::InputError(file, std::string("malformed JSON: ") + e.what());
-  } catch (const splat::ArgumentError& e) {
-    throw splat::InputError(file, e.what());
-  }
-}
 
 // "8,16,32": each a whole number >= 1.
 template <class Integer>
@@ -97,18 +85,18 @@ int main(int argc, char** argv) {
                                {"data", "out", "max-seconds", "eval-every-seconds", "threads", "bg",
                                 "downscale", "splat-config", "nerf-config", "sweep-gaussians",
                                 "stability-views"},
-                               {"help", "quiet", "stability"});
+                               {"help", "quiet", "stability", "report"});
     if (args.has("help")) {
       std::fputs(kUsage, stdout);
       return 0;
     }
-    if (!args.positionals().empty())
-      throw splat::ArgumentError("unexpected argument '" + args.positionals().front() + "'");
+    args.expect_no_positionals();
+    if (args.has("report")) return splat::cli::redraw_report(args.required("out"), args.has("quiet"));
     splat::cli::EvalCommandOptions options;
     options.data = args.required("data");
     options.out = args.required("out");
-    if (auto file = args.value("splat-config")) read_config(*file, options.splat_config);
-    if (auto file = args.value("nerf-config")) read_config(*file, options.nerf_config);
+    if (auto file = args.value("splat-config")) splat::cli::read_config_file(*file, options.splat_config);
+    if (auto file = args.value("nerf-config")) splat::cli::read_config_file(*file, options.nerf_config);
     if (auto s = args.number("max-seconds")) {
       if (*s <= 0) throw splat::ArgumentError("--max-seconds must be > 0");
       options.max_seconds = *s;

@@ -1,10 +1,10 @@
 // splat-train --data DIR --out DIR [--method splat|nerf] [--iters N] [--max-seconds S]
 //             [--bg white|black] [--seed N] [--threads N] [--downscale K] ...
 #include <cstdio>
-#include <fstream>
 
 #include "common/arg_parser.hpp"
 #include "common/run_main.hpp"
+#include "config_file.hpp"
 #include "splat/core/error.hpp"
 #include "train_command.hpp"
 
@@ -42,17 +42,7 @@ Ctrl-C saves a checkpoint and a valid model.ply, then exits with status 130.
 template <class Config>
 void apply_options(const splat::cli::ArgParser& args, Config& config,
                    splat::cli::TrainCommandOptions& options) {
-  if (auto file = args.value("config")) {
-    std::ifstream in(*file);
-    if (!in) throw splat::InputError(*file, "cannot open the config file");
-    try {
-      splat::from_json(nlohmann::json::parse(in), config);
-    } catch (const nlohmann::json::exception& e) {
-      throw splat::InputError(*file, std::string("malformed JSON: ") + e.what());
-    } catch (const splat::ArgumentError& e) {
-      throw splat::InputError(*file, e.what());
-    }
-  }
+  if (auto file = args.value("config")) splat::cli::read_config_file(*file, config);
   if (auto n = args.integer("iters")) {
     if (*n < 1) throw splat::ArgumentError("--iters must be >= 1");
     config.iterations = *n;
@@ -91,8 +81,7 @@ int main(int argc, char** argv) {
       std::fputs(kUsage, stdout);
       return 0;
     }
-    if (!args.positionals().empty())
-      throw splat::ArgumentError("unexpected argument '" + args.positionals().front() + "'");
+    args.expect_no_positionals();
     splat::cli::TrainCommandOptions options;
     options.data = args.required("data");
     options.out = args.required("out");

@@ -196,6 +196,13 @@ TEST(EvalCli, GaussianSweepMarksTheSmallestModelWithinHalfADecibelOfTheBest) {
       EXPECT_GE(run.at("model_bytes").get<std::size_t>(), runs[mark].at("model_bytes").get<std::size_t>());
   EXPECT_GT(fs::file_size(out / "charts" / "sweep_psnr_vs_gaussians.png"), 1000u);
   expect_report_files_exist(out, {"charts/sweep_psnr_vs_gaussians.png"});
+
+  // --report redraws the page and charts from the result files alone.
+  fs::remove(out / "report.html");
+  fs::remove(out / "charts" / "sweep_psnr_vs_gaussians.png");
+  const auto again = test::run_command(std::string(SPLAT_EVAL_EXE) + " --report --quiet --out " + out.string(), dir);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  expect_report_files_exist(out, {"charts/sweep_psnr_vs_gaussians.png"});
 }
 
 TEST(EvalCli, MissingDataFolderIsNamedAndLeavesNoOutput) {

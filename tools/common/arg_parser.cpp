@@ -35,6 +35,10 @@ ArgParser::ArgParser(int argc, char** argv, std::vector<std::string> value_optio
   }
 }
 
+void ArgParser::expect_no_positionals() const {
+  if (!positionals_.empty()) throw ArgumentError("unexpected argument '" + positionals_.front() + "'");
+}
+
 bool ArgParser::has(const std::string& name) const {
   return contains(flags_, name) || value(name).has_value();
 }

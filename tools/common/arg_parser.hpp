@@ -22,6 +22,8 @@ class ArgParser {
   // "R,G,B" with each in [0, 1], e.g. --bg 1,1,1.
   std::optional<std::vector<float>> float_list(const std::string& name, std::size_t count) const;
   const std::vector<std::string>& positionals() const { return positionals_; }
+  // ArgumentError naming the first word that is not an option, for tools that take none.
+  void expect_no_positionals() const;
 
  private:
   std::vector<std::pair<std::string, std::string>> values_;

@@ -42,8 +42,7 @@ int main(int argc, char** argv) {
       std::fputs(kUsage, stdout);
       return 0;
     }
-    if (!args.positionals().empty())
-      throw splat::ArgumentError("unexpected argument '" + args.positionals().front() + "'");
+    args.expect_no_positionals();
     splat::cli::RenderCommandOptions options;
     options.model = args.required("model");
     options.cameras = args.required("cameras");
