@@ -119,16 +119,24 @@ void NerfRenderer::backward(const NerfModel& model, std::span<const float> v_coa
 
 Image NerfRenderer::render_image(const NerfModel& model, const Camera& camera,
                                  const float background[3]) {
+  Image image;
+  render_image(model, camera, background, image, [] { return false; });
+  return image;
+}
+
+bool NerfRenderer::render_image(const NerfModel& model, const Camera& camera, const float background[3],
+                                Image& image, const std::function<bool()>& cancelled) {
   camera_rays(camera, image_rays_);
-  Image image(camera.width, camera.height, 3);
+  image = Image(camera.width, camera.height, 3);
   std::mt19937 unused_rng(0);
   for (std::size_t first = 0; first < image_rays_.size(); first += kImageBatchRays) {
+    if (cancelled()) return false;
     const std::size_t count = std::min(kImageBatchRays, image_rays_.size() - first);
     forward(model, std::span<const Ray>(&image_rays_[first], count), background, false, unused_rng);
     std::copy(fine_color().begin(), fine_color().begin() + std::ptrdiff_t(3 * count),
               image.data.begin() + std::ptrdiff_t(3 * first));
   }
-  return image;
+  return true;
 }
 
 }  // namespace splat

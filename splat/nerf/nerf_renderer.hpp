@@ -11,6 +11,7 @@
 // Sample placement is serial in ray order (from the caller's RNG when jittered), the
 // networks and the compositing are parallel and deterministic: the same seed gives the same
 // image and gradients for any thread count. Buffers are reused across batches.
+#include <functional>
 #include <random>
 #include <span>
 #include <vector>
@@ -43,6 +44,10 @@ class NerfRenderer {
 
   // A whole image (fine colours), rendered in batches of rays without jitter.
   Image render_image(const NerfModel& model, const Camera& camera, const float background[3]);
+  // The same into `image`, checking `cancelled` between batches: once it returns true the
+  // render stops and this returns false, `image` incomplete (the viewer drops stale frames).
+  bool render_image(const NerfModel& model, const Camera& camera, const float background[3], Image& image,
+                    const std::function<bool()>& cancelled);
 
  private:
   // One pass (coarse or fine): samples, network inputs and outputs, compositing.

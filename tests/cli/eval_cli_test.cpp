@@ -191,9 +191,11 @@ TEST(EvalCli, GaussianSweepMarksTheSmallestModelWithinHalfADecibelOfTheBest) {
   // The mark: within 0.5 dB of the best, and no other run within it is smaller.
   const std::size_t mark = j.at("smallest_within");
   EXPECT_GE(runs[mark].at("final").at("psnr").get<double>(), best - 0.5);
-  for (const auto& run : runs)
-    if (run.at("final").at("psnr").get<double>() >= best - 0.5)
+  for (const auto& run : runs) {
+    if (run.at("final").at("psnr").get<double>() >= best - 0.5) {
       EXPECT_GE(run.at("model_bytes").get<std::size_t>(), runs[mark].at("model_bytes").get<std::size_t>());
+    }
+  }
   EXPECT_GT(fs::file_size(out / "charts" / "sweep_psnr_vs_gaussians.png"), 1000u);
   expect_report_files_exist(out, {"charts/sweep_psnr_vs_gaussians.png"});
 

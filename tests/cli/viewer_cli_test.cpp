@@ -1,0 +1,107 @@
+// splat-viewer under Xvfb (Mesa's software OpenGL): its --screenshot of a view matches what
+// splat-render makes of the same camera, for a splat model, for two models side by side
+// (a NeRF among them, refined to full resolution), and bad input exits 2 without a window.
+#include <gtest/gtest.h>
+
+#include "cli_support.hpp"
+#include "splat/data/image_io.hpp"
+#include "splat/eval/metrics.hpp"
+#include "splat/nerf/nerf_file.hpp"
+#include "test_support.hpp"
+
+namespace splat {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string conformance(const std::string& name) { return (test::shared_dir() / "conformance" / name).string(); }
+
+// A virtual display per command (-a picks a free server number: ctest runs tests in parallel).
+std::string under_xvfb(const std::string& command) {
+  return "xvfb-run -a -s '-screen 0 1600x1200x24' " + command;
+}
+
+Image crop(const Image& image, int x0, int width) {
+  Image out(width, image.height, 3);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < width; ++x)
+      for (int c = 0; c < 3; ++c) out.at(x, y, c) = image.at(x0 + x, y, c);
+  return out;
+}
+
+// splat-render of `model` for view 0 of the conformance cameras at 200x200.
+Image reference_render(const std::string& model, const fs::path& dir) {
+  const auto r = test::run_command(std::string(SPLAT_RENDER_EXE) + " --model " + model + " --cameras " +
+                                       conformance("transforms_test.json") + " --width 200 --height 200 --out " +
+                                       (dir / "reference").string(),
+                                   dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return read_image(dir / "reference" / "r_0.png");
+}
+
+TEST(ViewerCli, XvfbIsInstalled) {
+  // The screenshot tests need it; scripts/install-deps.sh installs it.
+  EXPECT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run not found (install xvfb xauth)";
+}
+
+TEST(ViewerCli, ScreenshotOfAViewMatchesSplatRender) {
+  const fs::path dir = test::scratch_dir("viewer_cli_screenshot");
+  const fs::path shot = dir / "shot.png";
+  const auto r = test::run_command(
+      under_xvfb(std::string(SPLAT_VIEWER_EXE) + " " + conformance("lego_subset50k.ply") + " --cameras " +
+                 conformance("transforms_test.json") + " --view 0 --width 200 --height 200 --screenshot " +
+                 shot.string()),
+      dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const Image viewer = read_image(shot);
+  ASSERT_EQ(viewer.width, 200);
+  ASSERT_EQ(viewer.height, 200);
+  EXPECT_GE(psnr(crop(viewer, 0, 200), reference_render(conformance("lego_subset50k.ply"), dir)), 40.0);
+}
+
+TEST(ViewerCli, TwoModelsSideBySideWithANerfRefinedToFullResolution) {
+  const fs::path dir = test::scratch_dir("viewer_cli_two");
+  // A small untrained NeRF still draws a definite picture (its random networks' colours).
+  NerfSettings settings;
+  settings.coarse = {4, 2, 2, 16, -1, 8, DensityActivation::kSoftplus};
+  settings.fine = settings.coarse;
+  settings.coarse_samples = 16;
+  settings.fine_samples = 8;
+  const fs::path nerf = dir / "tiny.nerf";
+  write_nerf(NerfModel(settings, 5), nerf);
+  const fs::path shot = dir / "two.png";
+  const auto r = test::run_command(
+      under_xvfb(std::string(SPLAT_VIEWER_EXE) + " " + conformance("lego_subset50k.ply") + " " + nerf.string() +
+                 " --cameras " + conformance("transforms_test.json") + " --width 200 --height 200 --screenshot " +
+                 shot.string()),
+      dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const Image viewer = read_image(shot);
+  ASSERT_EQ(viewer.width, 400);
+  EXPECT_GE(psnr(crop(viewer, 0, 200), reference_render(conformance("lego_subset50k.ply"), dir)), 40.0);
+  EXPECT_GE(psnr(crop(viewer, 200, 200), reference_render(nerf.string(), dir)), 40.0);
+}
+
+TEST(ViewerCli, BadInputExitsTwoNamingTheFileWithoutAWindow) {
+  const fs::path dir = test::scratch_dir("viewer_cli_bad");
+  test::write_text(dir / "broken.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 5\nend_header\n");
+  test::write_text(dir / "notes.txt", "not a model");
+  // No display at all: these must fail on the input before any window is asked for.
+  for (const std::string& file : {(dir / "missing.ply").string(), (dir / "broken.ply").string(),
+                                  (dir / "notes.txt").string()}) {
+    const auto r = test::run_command("env -u DISPLAY " + std::string(SPLAT_VIEWER_EXE) + " " + file, dir);
+    EXPECT_EQ(r.exit_code, 2) << file;
+    EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(fs::path(file).filename().string()), std::string::npos) << r.err;
+  }
+  const auto view = test::run_command(std::string(SPLAT_VIEWER_EXE) + " " + conformance("lego_subset50k.ply") +
+                                          " --cameras " + conformance("transforms_test.json") + " --view 99",
+                                      dir);
+  EXPECT_EQ(view.exit_code, 2);
+  EXPECT_NE(view.err.find("--view 99"), std::string::npos) << view.err;
+  const auto none = test::run_command(std::string(SPLAT_VIEWER_EXE), dir);
+  EXPECT_EQ(none.exit_code, 2);
+}
+
+}  // namespace
+}  // namespace splat
