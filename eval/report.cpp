@@ -1,5 +1,6 @@
 #include "report.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -80,8 +81,15 @@ void comparison_section(std::ostream& html, const fs::path& out, const json& r) 
     chart(html, out, name);
   html << "<h3>Test views</h3>\n<p>Each row: ground truth | splat | NeRF | splat error | NeRF error; "
        << escaped(r["grid"]["error_map"]) << ".</p>\n";
-  for (const json& grid : r.value("grids", json::array())) {
-    const std::string file = grid;
+  // The grids results.json names; a folder from before it named them: what grids/ holds.
+  std::vector<std::string> grids;
+  for (const json& grid : r.value("grids", json::array())) grids.push_back(grid);
+  if (grids.empty() && fs::is_directory(out / "grids")) {
+    for (const auto& entry : fs::directory_iterator(out / "grids"))
+      if (entry.path().extension() == ".png") grids.push_back("grids/" + entry.path().filename().string());
+    std::sort(grids.begin(), grids.end());
+  }
+  for (const std::string& file : grids) {
     html << "<figure><img src=\"" << escaped(file) << "\" alt=\"" << escaped(file)
          << "\" class=\"grid\"><figcaption>" << escaped(fs::path(file).stem().string())
          << "</figcaption></figure>\n";

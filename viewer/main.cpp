@@ -26,6 +26,7 @@ Controls: left drag orbit, right/middle drag pan, scroll zoom, W A S D Q E fly, 
   --fps F               frame rate reduced resolution aims to hold while moving (default 30)
   --screenshot PNG      draw the view at full resolution, save the window to PNG, exit 0
   --screenshot-overlay  with --screenshot: include the on-screen overlay
+  --show-help           start with the help overlay open
   --bench-orbit S       orbit S seconds each at full resolution, at half resolution and
                         adaptive (--fps); print the frame rates as JSON and exit
 )";
@@ -37,7 +38,7 @@ int main(int argc, char** argv) {
     splat::cli::ArgParser args(argc, argv,
                                {"cameras", "view", "width", "height", "bg", "sh-degree", "fps", "screenshot",
                                 "bench-orbit"},
-                               {"help", "screenshot-overlay"});
+                               {"help", "screenshot-overlay", "show-help"});
     if (args.has("help")) {
       std::fputs(kUsage, stdout);
       return 0;
@@ -79,6 +80,7 @@ int main(int argc, char** argv) {
     }
     if (auto s = args.value("screenshot")) options.screenshot = *s;
     options.screenshot_overlay = args.has("screenshot-overlay");
+    options.show_help = args.has("show-help");
     if (auto s = args.number("bench-orbit")) {
       if (!(*s > 0)) throw splat::ArgumentError("--bench-orbit must be > 0 seconds");
       options.bench_seconds = *s;

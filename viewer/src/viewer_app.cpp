@@ -132,6 +132,7 @@ int run_viewer(const ViewerOptions& options, std::vector<std::unique_ptr<PanelMo
   overlay.white_background = settings.background[0] > 0.5f;
   overlay.dataset_views = int(options.cameras.size());
   overlay.dataset_view = options.cameras.empty() ? -1 : options.view;
+  overlay.help = options.show_help;
   std::string message;
   auto last_move = Clock::now() - std::chrono::seconds(10);
   auto last_frame = Clock::now();

@@ -20,6 +20,7 @@ struct ViewerOptions {
   ViewSettings settings;
   std::optional<std::filesystem::path> screenshot;  // draw the view, save it, exit
   bool screenshot_overlay = false;               // include the overlay in --screenshot
+  bool show_help = false;                        // start with the help open
   double bench_seconds = 0;                      // > 0: the orbit benchmark, then exit
   double target_fps = 30;                        // what reduced resolution aims to hold
 };
