@@ -3,6 +3,8 @@
 // (a NeRF among them, refined to full resolution), and bad input exits 2 without a window.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include "cli_support.hpp"
 #include "splat/data/image_io.hpp"
 #include "splat/eval/metrics.hpp"
@@ -80,6 +82,23 @@ TEST(ViewerCli, TwoModelsSideBySideWithANerfRefinedToFullResolution) {
   ASSERT_EQ(viewer.width, 400);
   EXPECT_GE(psnr(crop(viewer, 0, 200), reference_render(conformance("lego_subset50k.ply"), dir)), 40.0);
   EXPECT_GE(psnr(crop(viewer, 200, 200), reference_render(nerf.string(), dir)), 40.0);
+}
+
+TEST(ViewerCli, OrbitBenchmarkReportsEachPhase) {
+  const fs::path dir = test::scratch_dir("viewer_cli_bench");
+  const auto r = test::run_command(under_xvfb(std::string(SPLAT_VIEWER_EXE) + " " + conformance("lego_subset50k.ply") +
+                                              " --width 160 --height 120 --bench-orbit 1"),
+                                   dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const auto j = nlohmann::json::parse(r.out.substr(r.out.rfind("{\"width\"")));
+  EXPECT_EQ(j.at("width").get<int>(), 160);
+  for (const char* phase : {"full", "half", "adaptive"}) {
+    SCOPED_TRACE(phase);
+    EXPECT_GT(j.at(phase).at("frames").get<int>(), 0);
+    EXPECT_GT(j.at(phase).at("fps").get<double>(), 0.0);
+  }
+  EXPECT_EQ(j.at("full").at("scale_median").get<double>(), 1.0);
+  EXPECT_EQ(j.at("half").at("scale_median").get<double>(), 0.5);
 }
 
 TEST(ViewerCli, BadInputExitsTwoNamingTheFileWithoutAWindow) {

@@ -13,6 +13,8 @@
 #include <cstdio>
 #include <ctime>
 
+#include "input.hpp"
+#include "orbit_benchmark.hpp"
 #include "overlay.hpp"
 #include "panel_view.hpp"
 #include "splat/core/error.hpp"
@@ -136,33 +138,12 @@ int run_viewer(const ViewerOptions& options, std::vector<std::unique_ptr<PanelMo
   std::string message;
   auto last_move = Clock::now() - std::chrono::seconds(10);
   auto last_frame = Clock::now();
-  auto screenshot_start = Clock::now();
-
-  // The orbit benchmark: phases at full and at half resolution, then the adaptive policy,
-  // each orbiting continuously; the rate is new frames shown per second.
-  struct BenchPhase {
-    const char* name;
-    float scale;  // 0: adaptive
-    std::uint64_t frames_at_start = 0;
-    Clock::time_point start;
-    std::vector<double> render_ms, scales;
-  };
-  std::vector<BenchPhase> phases;
-  if (options.bench_seconds > 0)
-    phases = {{"full", 1.0f, 0, {}, {}, {}}, {"half", 0.5f, 0, {}, {}, {}}, {"adaptive", 0.0f, 0, {}, {}, {}}};
-  std::size_t phase = 0;
-  std::uint64_t last_counted = 0;
-  std::string bench_json;
-  auto start_phase = [&] {
-    for (PanelView* p : panels) p->force_scale(phases[phase].scale);
-    phases[phase].start = Clock::now();
-    phases[phase].frames_at_start = panels[0]->frames_shown();
-    last_counted = panels[0]->frames_shown();
-  };
-  if (!phases.empty()) start_phase();
-
+  const auto started = Clock::now();
+  std::optional<OrbitBenchmark> benchmark;
+  if (options.bench_seconds > 0) benchmark.emplace(options.bench_seconds, panels);
   int complete_frames = 0;  // screenshot: frames drawn since the view completed
   bool animating = true;
+
   while (!glfwWindowShouldClose(glfw)) {
     // Sleep until input or a finished render (workers post an empty event) unless something
     // moves by itself: a held fly key, the benchmark's orbit, a pending screenshot.
@@ -173,64 +154,26 @@ int run_viewer(const ViewerOptions& options, std::vector<std::unique_ptr<PanelMo
     ImGui_ImplOpenGL2_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
-    ImGuiIO& io = ImGui::GetIO();
     const double dt = std::min(0.1, seconds_since(last_frame));
     last_frame = Clock::now();
-    animating = !phases.empty() || options.screenshot.has_value();
 
-    // Input (ignored while ImGui wants it, e.g. over the help window).
-    bool moved = false;
-    if (!phases.empty()) {
+    InputResult input;
+    if (benchmark) {
       view.orbit(4.0f, 0.0f, float(height));  // a steady turn, as a user dragging
-      moved = true;
+      input.moved = true;
     } else if (!options.screenshot) {
-      if (!io.WantCaptureMouse) {
-        if (io.MouseDown[0] && (io.MouseDelta.x != 0 || io.MouseDelta.y != 0))
-          view.orbit(io.MouseDelta.x, io.MouseDelta.y, float(height)), moved = true;
-        if ((io.MouseDown[1] || io.MouseDown[2]) && (io.MouseDelta.x != 0 || io.MouseDelta.y != 0))
-          view.pan(io.MouseDelta.x, io.MouseDelta.y, float(height)), moved = true;
-        if (io.MouseWheel != 0) view.zoom(io.MouseWheel), moved = true;
-      }
-      if (!io.WantCaptureKeyboard) {
-        const float step = float(dt) * 0.5f * view.distance();
-        const float forward = float(ImGui::IsKeyDown(GLFW_KEY_W)) - float(ImGui::IsKeyDown(GLFW_KEY_S));
-        const float right = float(ImGui::IsKeyDown(GLFW_KEY_D)) - float(ImGui::IsKeyDown(GLFW_KEY_A));
-        const float up = float(ImGui::IsKeyDown(GLFW_KEY_E)) - float(ImGui::IsKeyDown(GLFW_KEY_Q));
-        if (forward != 0 || right != 0 || up != 0) {
-          view.fly(forward * step, right * step, up * step);
-          moved = animating = true;
-        }
-        if (ImGui::IsKeyPressed(GLFW_KEY_R, false)) view.reset(), moved = true;
-        const int views_count = int(options.cameras.size());
-        const int step_view = int(ImGui::IsKeyPressed(GLFW_KEY_RIGHT_BRACKET)) - int(ImGui::IsKeyPressed(GLFW_KEY_LEFT_BRACKET));
-        if (views_count > 0 && step_view != 0) {
-          const int current = overlay.dataset_view >= 0 ? overlay.dataset_view : 0;
-          overlay.dataset_view = ((current + step_view) % views_count + views_count) % views_count;
-          view.show_camera(options.cameras[std::size_t(overlay.dataset_view)].camera);
-        } else if (moved) {
-          overlay.dataset_view = -1;
-        }
-        if (ImGui::IsKeyPressed(GLFW_KEY_EQUAL) || ImGui::IsKeyPressed(GLFW_KEY_KP_ADD))
-          settings.sh_degree = std::min(3, settings.sh_degree + 1);
-        if (ImGui::IsKeyPressed(GLFW_KEY_MINUS) || ImGui::IsKeyPressed(GLFW_KEY_KP_SUBTRACT))
-          settings.sh_degree = std::max(0, settings.sh_degree - 1);
-        if (ImGui::IsKeyPressed(GLFW_KEY_B, false)) {
-          overlay.white_background = !overlay.white_background;
-          for (float& c : settings.background) c = overlay.white_background ? 1.0f : 0.0f;
-        }
-        if (ImGui::IsKeyPressed(GLFW_KEY_H, false)) overlay.help = !overlay.help;
-        if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) glfwSetWindowShouldClose(glfw, 1);
-      }
+      input = apply_input(view, settings, overlay, options.cameras, dt, height);
+      if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) glfwSetWindowShouldClose(glfw, 1);
     }
-    if (moved) last_move = Clock::now();
-    overlay.sh_degree = settings.sh_degree;
+    animating = benchmark || options.screenshot || input.animating;
+    if (input.moved) last_move = Clock::now();
 
     // Each panel: pick up a finished frame, ask for the next.
     const bool moving = seconds_since(last_move) < 0.15;
     const ViewKey key{view.camera(width, height), settings};
     for (PanelView* p : panels) p->update(key, moving);
 
-    // Draw: each panel's texture, then (unless a bare screenshot) the overlay.
+    // Draw each panel's texture, then (unless a bare screenshot) the overlay.
     int fb_width = 0, fb_height = 0;
     glfwGetFramebufferSize(glfw, &fb_width, &fb_height);
     glViewport(0, 0, fb_width, fb_height);
@@ -241,11 +184,6 @@ int run_viewer(const ViewerOptions& options, std::vector<std::unique_ptr<PanelMo
       if (panels[std::size_t(i)]->frames_shown() > 0)
         background->AddImage(reinterpret_cast<ImTextureID>(std::uintptr_t(panels[std::size_t(i)]->texture())),
                              ImVec2(float(i * width), 0), ImVec2(float((i + 1) * width), float(height)));
-    // A few frames after the view completes, so the overlay has sized itself too.
-    const bool complete = std::all_of(panels.begin(), panels.end(), [&](PanelView* p) { return p->complete(key); });
-    complete_frames = complete ? complete_frames + 1 : 0;
-    const bool screenshot_ready = options.screenshot && complete_frames >= 3;
-    const bool take_picture = ImGui::IsKeyPressed(GLFW_KEY_P, false) && !io.WantCaptureKeyboard;
     if (!options.screenshot || options.screenshot_overlay) {
       overlay.message = message.empty() ? nullptr : message.c_str();
       draw_overlay(panels, width, overlay);
@@ -253,46 +191,28 @@ int run_viewer(const ViewerOptions& options, std::vector<std::unique_ptr<PanelMo
     ImGui::Render();
     ImGui_ImplOpenGL2_RenderDrawData(ImGui::GetDrawData());
 
-    if (screenshot_ready) {
-      write_png(read_framebuffer(fb_width, fb_height), *options.screenshot);
-      std::printf("saved %s (%dx%d)\n", options.screenshot->string().c_str(), fb_width, fb_height);
-      return 0;
+    if (options.screenshot) {
+      // A few frames after the view completes, so the overlay has sized itself too.
+      const bool complete = std::all_of(panels.begin(), panels.end(), [&](PanelView* p) { return p->complete(key); });
+      complete_frames = complete ? complete_frames + 1 : 0;
+      if (complete_frames >= 3) {
+        write_png(read_framebuffer(fb_width, fb_height), *options.screenshot);
+        std::printf("saved %s (%dx%d)\n", options.screenshot->string().c_str(), fb_width, fb_height);
+        return 0;
+      }
+      if (seconds_since(started) > 600)
+        throw Error("the view did not finish rendering within 10 minutes; no screenshot written");
     }
-    if (options.screenshot && seconds_since(screenshot_start) > 600)
-      throw Error("the view did not finish rendering within 10 minutes; no screenshot written");
-    if (take_picture) {
+    if (input.screenshot) {
       const std::string name = timestamped_name();
       write_png(read_framebuffer(fb_width, fb_height), name);
       message = "saved " + name;
     }
     glfwSwapBuffers(glfw);
 
-    if (!phases.empty()) {
-      BenchPhase& p = phases[phase];
-      if (panels[0]->frames_shown() != last_counted) {
-        last_counted = panels[0]->frames_shown();
-        p.render_ms.push_back(panels[0]->shown().render_ms);
-        p.scales.push_back(panels[0]->shown().scale);
-      }
-      if (seconds_since(p.start) >= options.bench_seconds) {
-        auto median = [](std::vector<double> v) {
-          if (v.empty()) return 0.0;
-          std::sort(v.begin(), v.end());
-          return v[v.size() / 2];
-        };
-        const double elapsed = seconds_since(p.start);
-        const double fps = double(panels[0]->frames_shown() - p.frames_at_start) / elapsed;
-        char part[256];
-        std::snprintf(part, sizeof(part), "%s\"%s\": {\"fps\": %.2f, \"render_ms_median\": %.2f, \"scale_median\": %.3f, \"frames\": %zu}",
-                      bench_json.empty() ? "" : ", ", p.name, fps, median(p.render_ms), median(p.scales), p.render_ms.size());
-        bench_json += part;
-        if (++phase == phases.size()) {
-          std::printf("{\"width\": %d, \"height\": %d, \"panels\": %d, \"seconds_per_phase\": %.1f, %s}\n", width, height,
-                      panel_count, options.bench_seconds, bench_json.c_str());
-          return 0;
-        }
-        start_phase();
-      }
+    if (benchmark && benchmark->frame()) {
+      std::printf("%s\n", benchmark->result_json(width, height).c_str());
+      return 0;
     }
   }
   return 0;
