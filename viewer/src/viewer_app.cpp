@@ -145,9 +145,12 @@ int run_viewer(const ViewerOptions& options, std::vector<std::unique_ptr<PanelMo
   bool animating = true;
 
   while (!glfwWindowShouldClose(glfw)) {
-    // Sleep until input or a finished render (workers post an empty event) unless something
-    // moves by itself: a held fly key, the benchmark's orbit, a pending screenshot.
-    if (animating)
+    // Never spin: the renders need the cores. While a worker renders, sleep until it posts
+    // its finished frame (an empty event) or input arrives; when idle, turn at once only if
+    // something moves by itself (a held fly key, the benchmark's orbit, a screenshot).
+    if (std::any_of(panels.begin(), panels.end(), [](PanelView* p) { return p->working(); }))
+      glfwWaitEventsTimeout(0.05);
+    else if (animating)
       glfwPollEvents();
     else
       glfwWaitEventsTimeout(0.1);
