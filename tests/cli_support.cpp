@@ -5,6 +5,10 @@
 #include <sstream>
 #include <sys/wait.h>
 
+#include "splat/data/orbit_cameras.hpp"
+#include "splat/data/rendered_dataset.hpp"
+#include "splat/gaussians/demo_model.hpp"
+
 namespace splat::test {
 
 std::string read_file(const std::filesystem::path& file) {
@@ -30,6 +34,19 @@ std::string last_line(const std::string& text) {
   while (!t.empty() && (t.back() == '\n' || t.back() == '\r')) t.pop_back();
   const auto pos = t.rfind('\n');
   return pos == std::string::npos ? t : t.substr(pos + 1);
+}
+
+void write_demo_dataset(const std::filesystem::path& dir, int train_views, int test_views, int size,
+                        std::size_t gaussians) {
+  OrbitRig train_rig;
+  train_rig.count = train_views;
+  train_rig.radius = 5.5f;
+  train_rig.width = train_rig.height = size;
+  OrbitRig test_rig = train_rig;
+  test_rig.count = test_views;
+  test_rig.elevation_radians = 0.7f;
+  const float white[3] = {1, 1, 1};
+  write_rendered_dataset(make_demo_model(gaussians), orbit_cameras(train_rig), orbit_cameras(test_rig), white, dir);
 }
 
 }  // namespace splat::test

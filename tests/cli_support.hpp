@@ -18,4 +18,10 @@ std::string read_file(const std::filesystem::path& file);
 // The last non-empty line of `text`.
 std::string last_line(const std::string& text);
 
+// A small Blender-style dataset of the demo model (`gaussians` of them) written into `dir`:
+// `train_views` on an orbit of radius 5.5 and `test_views` on one higher up, at size × size,
+// on white. What the trainer and splat-eval tests train on.
+void write_demo_dataset(const std::filesystem::path& dir, int train_views, int test_views, int size,
+                        std::size_t gaussians);
+
 }  // namespace splat::test

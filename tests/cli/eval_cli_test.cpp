@@ -9,9 +9,6 @@
 
 #include "cli_support.hpp"
 #include "splat/data/image_io.hpp"
-#include "splat/data/orbit_cameras.hpp"
-#include "splat/data/rendered_dataset.hpp"
-#include "splat/gaussians/demo_model.hpp"
 #include "test_support.hpp"
 
 namespace splat {
@@ -25,15 +22,7 @@ constexpr int kSize = 32;
 // (ctest runs test cases in parallel).
 fs::path tiny_dataset(const fs::path& dir) {
   const fs::path d = dir / "data";
-  OrbitRig train_rig;
-  train_rig.count = 8;
-  train_rig.radius = 5.5f;
-  train_rig.width = train_rig.height = kSize;
-  OrbitRig test_rig = train_rig;
-  test_rig.count = 2;
-  test_rig.elevation_radians = 0.7f;
-  const float white[3] = {1, 1, 1};
-  write_rendered_dataset(make_demo_model(2000), orbit_cameras(train_rig), orbit_cameras(test_rig), white, d);
+  test::write_demo_dataset(d, 8, 2, kSize, 2000);
   test::write_text(dir / "splat.json", R"({"random_init_points": 2000, "densify_from_iter": 100,
     "densification_interval": 50, "opacity_reset_interval": 200, "densify_until_iter": 250})");
   test::write_text(dir / "nerf.json", R"({"rays_per_batch": 256, "occupancy_warmup": 100,

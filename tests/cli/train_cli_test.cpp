@@ -6,9 +6,6 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
-#include "splat/data/orbit_cameras.hpp"
-#include "splat/data/rendered_dataset.hpp"
-#include "splat/gaussians/demo_model.hpp"
 #include "splat/gaussians/ply_io.hpp"
 #include "test_support.hpp"
 
@@ -24,15 +21,7 @@ fs::path tiny_dataset() {
   static const fs::path dir = [] {
     const std::string test_name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
     const fs::path d = test::scratch_dir("train_cli_dataset_" + test_name);
-    OrbitRig train_rig;
-    train_rig.count = 12;
-    train_rig.radius = 5.5f;
-    train_rig.width = train_rig.height = 64;
-    OrbitRig test_rig = train_rig;
-    test_rig.count = 3;
-    test_rig.elevation_radians = 0.7f;
-    const float white[3] = {1, 1, 1};
-    write_rendered_dataset(make_demo_model(3000), orbit_cameras(train_rig), orbit_cameras(test_rig), white, d);
+    test::write_demo_dataset(d, 12, 3, 64, 3000);
     // Small settings so the run takes about a second but still densifies and resets.
     test::write_text(d / "tiny_config.json", R"({"random_init_points": 4000, "densify_from_iter": 100,
       "densification_interval": 50, "opacity_reset_interval": 200, "densify_until_iter": 250})");
