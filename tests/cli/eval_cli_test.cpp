@@ -23,9 +23,9 @@ constexpr int kSize = 32;
 fs::path tiny_dataset(const fs::path& dir) {
   const fs::path d = dir / "data";
   test::write_demo_dataset(d, 8, 2, kSize, 2000);
-  test::write_text(dir / "splat.json", R"({"random_init_points": 2000, "densify_from_iter": 100,
+  test::write_text(dir / "splat.json", R"({"iterations": 500, "random_init_points": 2000, "densify_from_iter": 100,
     "densification_interval": 50, "opacity_reset_interval": 200, "densify_until_iter": 250})");
-  test::write_text(dir / "nerf.json", R"({"rays_per_batch": 256, "occupancy_warmup": 100,
+  test::write_text(dir / "nerf.json", R"({"iterations": 200, "rays_per_batch": 256, "occupancy_warmup": 100,
     "occupancy_interval": 10, "lr_init": 5e-3, "lr_final": 5e-4, "lr_decay_iterations": 400,
     "model": {"coarse": {"depth": 2, "width": 32, "skip_layer": -1, "color_width": 16},
               "fine": {"depth": 2, "width": 32, "skip_layer": -1, "color_width": 16},
@@ -57,7 +57,7 @@ TEST(EvalCli, TrainsBothMethodsAndWritesResultsModelsRendersAndGrids) {
   const fs::path dir = test::scratch_dir("eval_cli_basic");
   const fs::path data = tiny_dataset(dir);
   const auto r = test::run_command(
-      eval_command(dir, data, "--max-seconds 2 --eval-every-seconds 0.5 --threads 2"), dir);
+      eval_command(dir, data, "--max-seconds 60 --eval-every-seconds 0.5 --threads 2"), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   // Progress names the method, the stage and the ETA.
   for (const char* word : {"[splat", "[nerf", "training", "scoring", "rendering", "ETA"})
@@ -65,7 +65,7 @@ TEST(EvalCli, TrainsBothMethodsAndWritesResultsModelsRendersAndGrids) {
 
   const fs::path out = dir / "out";
   const auto j = nlohmann::json::parse(test::read_file(out / "results.json"));
-  EXPECT_EQ(j.at("budget_seconds").get<double>(), 2.0);
+  EXPECT_EQ(j.at("budget_seconds").get<double>(), 60.0);
   EXPECT_EQ(j.at("threads").get<int>(), 2);
   EXPECT_EQ(j.at("data").get<std::string>(), data.string());
   const auto& methods = j.at("methods");
@@ -77,19 +77,14 @@ TEST(EvalCli, TrainsBothMethodsAndWritesResultsModelsRendersAndGrids) {
     SCOPED_TRACE(name);
     const double psnr = m.at("final").at("psnr");
     EXPECT_TRUE(std::isfinite(psnr));
-    // Two seconds of wall clock teach the splats the scene (about 26 dB on an idle machine,
-    // less on a loaded one, so the bar is that they learned: well above their first score).
-    // The NeRF barely starts (about 200 steps): for it this only says the score is sane.
-    if (name == "splat") {
-      EXPECT_GT(psnr, m.at("history").front().at("test_psnr").get<double>() + 1.0);
-      EXPECT_GT(psnr, 12.0);
-    } else {
-      EXPECT_GT(psnr, 5.0);
-    }
+    // The iteration limits (500 splat, 200 NeRF steps, from the configs) end both runs long
+    // before the budget, so the models do not depend on the machine's load: 500 steps teach
+    // the splats the scene; the NeRF barely starts, so for it this says the score is sane.
+    EXPECT_EQ(m.at("stopped_by"), "iterations");
+    EXPECT_EQ(m.at("iterations").get<int>(), name == "splat" ? 500 : 200);
+    EXPECT_GT(psnr, name == "splat" ? 20.0 : 5.0);
     EXPECT_TRUE(std::isfinite(m.at("final").at("ssim").get<double>()));
-    // Trained for about the budget (one step may overrun it), not counting scoring time.
-    EXPECT_GE(m.at("train_seconds").get<double>(), 2.0);
-    EXPECT_LT(m.at("train_seconds").get<double>(), 4.0);
+    EXPECT_LT(m.at("train_seconds").get<double>(), 60.0);
     EXPECT_GT(m.at("render_ms_per_view_median").get<double>(), 0.0);
     const auto& history = m.at("history");
     ASSERT_GE(history.size(), 2u);
@@ -155,6 +150,11 @@ TEST(EvalCli, StabilityRunsEveryConditionAndGivesEachRunAVerdict) {
       const std::string verdict = run.at("verdict");
       EXPECT_TRUE(verdict == "ok" || verdict == "degraded" || verdict == "collapsed" || verdict == "diverged") << verdict;
       ASSERT_TRUE(run.contains("final")) << run.dump();
+      // Stopped by the 0.5 s budget (one step may overrun it), scoring not counted.
+      if (run.at("stopped_by") == "time") {
+        EXPECT_GE(run.at("train_seconds").get<double>(), 0.5);
+        EXPECT_LT(run.at("train_seconds").get<double>(), 2.5);
+      }
       EXPECT_TRUE(std::isfinite(run.at("final").at("psnr").get<double>()));
       EXPECT_TRUE(fs::exists(out / run.at("model_file").get<std::string>()));
     }
