@@ -158,7 +158,8 @@ std::string chart_script(const std::vector<Chart>& charts) {
       const std::string block = "'" + c.name + ".dat' index " + std::to_string(i);
       plot += (i ? ", " : "") + block + " using 1:2 with " + c.series[i].style + " title " + gp(c.series[i].title);
       if (!c.series[i].labels.empty())
-        plot += ", " + block + " using 1:2:3 with labels offset 0,1 font ',9' notitle";
+        // Alternate series label above and below their points, so coinciding points stay legible.
+        plot += ", " + block + " using 1:2:3 with labels offset 0," + (i % 2 ? "-1" : "1") + " font ',9' notitle";
     }
     script += "set terminal pngcairo size 900,540\nset output '" + c.name + ".tmp.png'\n" + plot + "\n";
     script += "set terminal svg size 900,540\nset output '" + c.name + ".tmp.svg'\nreplot\nunset output\n";
