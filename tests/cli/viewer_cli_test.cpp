@@ -18,9 +18,10 @@ namespace fs = std::filesystem;
 
 std::string conformance(const std::string& name) { return (test::shared_dir() / "conformance" / name).string(); }
 
-// A virtual display per command (-a picks a free server number: ctest runs tests in parallel).
-std::string under_xvfb(const std::string& command) {
-  return "xvfb-run -a -s '-screen 0 1600x1200x24' " + command;
+// A virtual display per command. ctest runs tests in parallel, and two xvfb-run -a started
+// at once can race for the same free server number, so each test searches from its own.
+std::string under_xvfb(const std::string& command, int first_server) {
+  return "xvfb-run -a -n " + std::to_string(first_server) + " -s '-screen 0 1600x1200x24' " + command;
 }
 
 Image crop(const Image& image, int x0, int width) {
@@ -52,7 +53,7 @@ TEST(ViewerCli, ScreenshotOfAViewMatchesSplatRender) {
   const auto r = test::run_command(
       under_xvfb(std::string(SPLAT_VIEWER_EXE) + " " + conformance("lego_subset50k.ply") + " --cameras " +
                  conformance("transforms_test.json") + " --view 0 --width 200 --height 200 --screenshot " +
-                 shot.string()),
+                 shot.string(), 121),
       dir);
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   const Image viewer = read_image(shot);
@@ -75,7 +76,7 @@ TEST(ViewerCli, TwoModelsSideBySideWithANerfRefinedToFullResolution) {
   const auto r = test::run_command(
       under_xvfb(std::string(SPLAT_VIEWER_EXE) + " " + conformance("lego_subset50k.ply") + " " + nerf.string() +
                  " --cameras " + conformance("transforms_test.json") + " --width 200 --height 200 --screenshot " +
-                 shot.string()),
+                 shot.string(), 141),
       dir);
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   const Image viewer = read_image(shot);
@@ -87,7 +88,7 @@ TEST(ViewerCli, TwoModelsSideBySideWithANerfRefinedToFullResolution) {
 TEST(ViewerCli, OrbitBenchmarkReportsEachPhase) {
   const fs::path dir = test::scratch_dir("viewer_cli_bench");
   const auto r = test::run_command(under_xvfb(std::string(SPLAT_VIEWER_EXE) + " " + conformance("lego_subset50k.ply") +
-                                              " --width 160 --height 120 --bench-orbit 1"),
+                                              " --width 160 --height 120 --bench-orbit 1", 161),
                                    dir);
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   const auto j = nlohmann::json::parse(r.out.substr(r.out.rfind("{\"width\"")));
