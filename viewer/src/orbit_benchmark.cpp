@@ -53,7 +53,9 @@ bool OrbitBenchmark::frame() {
     }
   }
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - p.start).count();
-  if (elapsed < seconds_) return false;
+  // A phase lasts at least its seconds and until one frame of its own was shown (a
+  // heavily loaded machine may take longer than a short phase for one).
+  if (elapsed < seconds_ || p.render_ms.empty()) return false;
   p.fps = double(p.render_ms.size()) / elapsed;
   if (++phase_ == phases_.size()) return true;
   start_phase();
