@@ -105,14 +105,8 @@ int main(int argc, char** argv) {
       if (*t <= 0) throw splat::ArgumentError("--eval-every-seconds must be > 0");
       options.eval_every = *t;
     }
-    if (auto n = args.integer("threads")) {
-      if (*n < 1) throw splat::ArgumentError("--threads must be >= 1");
-      options.threads = *n;
-    }
-    if (auto k = args.integer("downscale")) {
-      if (*k < 1) throw splat::ArgumentError("--downscale must be >= 1");
-      options.dataset.downscale = *k;
-    }
+    if (auto n = args.positive_integer("threads")) options.threads = *n;
+    if (auto k = args.positive_integer("downscale")) options.dataset.downscale = *k;
     const std::string bg = args.value("bg").value_or("white");
     if (bg != "white" && bg != "black") throw splat::ArgumentError("--bg must be white or black");
     const float value = bg == "white" ? 1.0f : 0.0f;

@@ -43,10 +43,7 @@ template <class Config>
 void apply_options(const splat::cli::ArgParser& args, Config& config,
                    splat::cli::TrainCommandOptions& options) {
   if (auto file = args.value("config")) splat::cli::read_config_file(*file, config);
-  if (auto n = args.integer("iters")) {
-    if (*n < 1) throw splat::ArgumentError("--iters must be >= 1");
-    config.iterations = *n;
-  }
+  if (auto n = args.positive_integer("iters")) config.iterations = *n;
   if (auto s = args.number("max-seconds")) {
     if (*s <= 0) throw splat::ArgumentError("--max-seconds must be > 0");
     config.max_seconds = *s;
@@ -94,19 +91,10 @@ int main(int argc, char** argv) {
       apply_options(args, options.nerf_config, options);
     } else {
       apply_options(args, options.config, options);
-      if (auto n = args.integer("max-gaussians")) {
-        if (*n < 1) throw splat::ArgumentError("--max-gaussians must be >= 1");
-        options.config.density.max_gaussians = std::size_t(*n);
-      }
+      if (auto n = args.positive_integer("max-gaussians")) options.config.density.max_gaussians = std::size_t(*n);
     }
-    if (auto n = args.integer("threads")) {
-      if (*n < 1) throw splat::ArgumentError("--threads must be >= 1");
-      options.threads = *n;
-    }
-    if (auto k = args.integer("downscale")) {
-      if (*k < 1) throw splat::ArgumentError("--downscale must be >= 1");
-      options.dataset.downscale = *k;
-    }
+    if (auto n = args.positive_integer("threads")) options.threads = *n;
+    if (auto k = args.positive_integer("downscale")) options.dataset.downscale = *k;
     if (auto r = args.value("resume")) options.resume = *r;
     options.quiet = args.has("quiet");
     return splat::cli::run_train_command(options);

@@ -67,6 +67,12 @@ std::optional<int> ArgParser::integer(const std::string& name) const {
   return int(parsed);
 }
 
+std::optional<int> ArgParser::positive_integer(const std::string& name) const {
+  const std::optional<int> n = integer(name);
+  if (n && *n < 1) throw ArgumentError("--" + name + " must be >= 1");
+  return n;
+}
+
 std::optional<double> ArgParser::number(const std::string& name) const {
   auto v = value(name);
   if (!v) return std::nullopt;

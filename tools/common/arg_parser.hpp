@@ -18,6 +18,9 @@ class ArgParser {
   std::optional<std::string> value(const std::string& name) const;
   std::string required(const std::string& name) const;
   std::optional<int> integer(const std::string& name) const;
+  // As integer(), and ArgumentError "--name must be >= 1" for a smaller value (counts,
+  // thread numbers, factors).
+  std::optional<int> positive_integer(const std::string& name) const;
   std::optional<double> number(const std::string& name) const;
   // "R,G,B" with each in [0, 1], e.g. --bg 1,1,1.
   std::optional<std::vector<float>> float_list(const std::string& name, std::size_t count) const;

@@ -67,8 +67,7 @@ int main(int argc, char** argv) {
     if (options.bench_repeats < 0) throw splat::ArgumentError("--bench must be >= 0");
     if (args.has("png16")) options.bits = 16;
     std::unique_ptr<tbb::global_control> threads;
-    if (auto n = args.integer("threads")) {
-      if (*n < 1) throw splat::ArgumentError("--threads must be >= 1");
+    if (auto n = args.positive_integer("threads")) {
       threads = std::make_unique<tbb::global_control>(
           tbb::global_control::max_allowed_parallelism, std::size_t(*n));
     }
