@@ -51,8 +51,21 @@ void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
 
 }  // namespace
 
+SplatTrainingConfig splat_training_preset(const std::string& strategy) {
+  SplatTrainingConfig config;
+  if (strategy == "official") return config;
+  if (strategy == "compact") {
+    config.strategy = strategy;
+    return config;
+  }
+  std::string known;
+  for (const char* name : kSplatStrategies) known += std::string(known.empty() ? "" : ", ") + name;
+  throw ArgumentError("unknown strategy '" + strategy + "' (known: " + known + ")");
+}
+
 nlohmann::json to_json(const SplatTrainingConfig& config) {
   nlohmann::json j;
+  j["strategy"] = config.strategy;
   SplatTrainingConfig copy = config;
   visit_fields(copy, [&](const char* name, auto& value) { j[name] = value; });
   j["alpha_clamp_gradient"] =
@@ -63,6 +76,11 @@ nlohmann::json to_json(const SplatTrainingConfig& config) {
 void from_json(const nlohmann::json& json, SplatTrainingConfig& config) {
   if (!json.is_object()) throw ArgumentError("training config: expected a JSON object");
   std::size_t known = 0;
+  if (auto it = json.find("strategy"); it != json.end()) {
+    ++known;
+    if (!it->is_string()) throw ArgumentError("training config: strategy must be a string");
+    config = splat_training_preset(it->get<std::string>());
+  }
   visit_fields(config, [&](const char* name, auto& value) {
     auto it = json.find(name);
     if (it == json.end()) return;
@@ -84,7 +102,7 @@ void from_json(const nlohmann::json& json, SplatTrainingConfig& config) {
   }
   if (known != json.size())
     for (auto it = json.begin(); it != json.end(); ++it) {
-      bool found = it.key() == "alpha_clamp_gradient";
+      bool found = it.key() == "alpha_clamp_gradient" || it.key() == "strategy";
       visit_fields(config, [&](const char* name, auto&) { found = found || it.key() == name; });
       if (!found) throw ArgumentError("training config: unknown setting '" + it.key() + "'");
     }

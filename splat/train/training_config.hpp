@@ -4,13 +4,19 @@
 // into checkpoints, so a run can be reproduced and resumed.
 #include <cstddef>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "splat/optim/density_control.hpp"
 #include "splat/raster/rasterizer.hpp"
 
 namespace splat {
 
+// The member defaults are the official recipe (strategy "official"); splat_training_preset
+// gives each strategy's own defaults, which is what the command lines start from.
 struct SplatTrainingConfig {
+  // Density control: "official" (clone/split/prune/reset as the official trainer, bit for
+  // bit) or "compact" (the model grows only while it pays; see density_strategy.hpp).
+  std::string strategy = "official";
   int iterations = 30000;
   double max_seconds = 0;            // wall-clock limit, 0 = none; whichever ends first
   float background[3] = {1, 1, 1};
@@ -36,9 +42,17 @@ struct SplatTrainingConfig {
   int checkpoint_interval = 5000;    // iterations between checkpoints (0 = none)
 };
 
+// The strategies splat-train knows, in the order the help lists them.
+inline const char* const kSplatStrategies[] = {"compact", "official"};
+
+// Every setting at the defaults of `strategy`; ArgumentError for an unknown name.
+SplatTrainingConfig splat_training_preset(const std::string& strategy);
+
 nlohmann::json to_json(const SplatTrainingConfig& config);
 // Reads the fields present in `json` over `config` (defaults for the rest); throws
-// ArgumentError naming an unknown key or a value of the wrong type.
+// ArgumentError naming an unknown key or a value of the wrong type. A "strategy" key first
+// resets `config` to that strategy's preset, so the file's other fields apply over the
+// defaults of the strategy it names.
 void from_json(const nlohmann::json& json, SplatTrainingConfig& config);
 
 }  // namespace splat
