@@ -82,9 +82,10 @@ struct CompositeReverse {
 
 // Undoes one sample in the lanes of `blended` (the lanes where the forward pass blended it),
 // given the pixel's colour cotangent v_pixel and the constants T_N and bg·v_pixel. Writes
-// ∂L/∂α and ∂L/∂c for the sample (zero in the other lanes).
+// ∂L/∂α and ∂L/∂c for the sample (zero in the other lanes) and returns its blending weight
+// Tᵢαᵢ (zero in the other lanes), which density control reads as how much the pixel saw of it.
 template <class F, class M>
-inline void composite_step_vjp(CompositeReverse<F>& r, M blended, F alpha, F red, F green, F blue,
+inline F composite_step_vjp(CompositeReverse<F>& r, M blended, F alpha, F red, F green, F blue,
                                const F v_pixel[3], F final_transmittance, F background_dot_v,
                                F& v_alpha, F v_color[3]) {
   using simd::select;
@@ -101,6 +102,7 @@ inline void composite_step_vjp(CompositeReverse<F>& r, M blended, F alpha, F red
   v_alpha = select(blended, transmittance * dot - final_transmittance / one_minus_alpha * background_dot_v,
                    F{});
   r.transmittance = select(blended, transmittance, r.transmittance);
+  return select(blended, weight, F{});
 }
 
 }  // namespace splat

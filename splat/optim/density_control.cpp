@@ -28,39 +28,32 @@ void require_model_shape(const GaussianModel& model, const GaussianModel& moment
                         std::to_string(model.size()) + " (call AdamState::reset_like)");
 }
 
-// The same row operations on the model and both moments.
-struct Rows {
-  GaussianModel& model;
-  AdamState& adam;
-  std::vector<float>& max_radii;  // carried so screen-size pruning can use it
+}  // namespace
 
-  void append_copies(const std::vector<std::size_t>& sources, GaussianModel&& born) {
-    model.append_rows(born);
-    adam.first_moment.append_zero_rows(sources.size());
-    adam.second_moment.append_zero_rows(sources.size());
-    for (std::size_t s : sources) max_radii.push_back(max_radii[s]);
-  }
-  void keep(const std::vector<std::uint8_t>& flags) {
-    model.keep_rows(flags);
-    adam.first_moment.keep_rows(flags);
-    adam.second_moment.keep_rows(flags);
+void AlignedRows::append_copies(const std::vector<std::size_t>& sources, const GaussianModel& born) {
+  model.append_rows(born);
+  adam.first_moment.append_zero_rows(sources.size());
+  adam.second_moment.append_zero_rows(sources.size());
+  for (std::vector<float>* array : stats)
+    for (std::size_t s : sources) array->push_back((*array)[s]);
+}
+
+void AlignedRows::keep(const std::vector<std::uint8_t>& flags) {
+  model.keep_rows(flags);
+  adam.first_moment.keep_rows(flags);
+  adam.second_moment.keep_rows(flags);
+  for (std::vector<float>* array : stats) {
     std::size_t out = 0;
     for (std::size_t i = 0; i < flags.size(); ++i)
-      if (flags[i]) max_radii[out++] = max_radii[i];
-    max_radii.resize(out);
+      if (flags[i]) (*array)[out++] = (*array)[i];
+    array->resize(out);
   }
-};
+}
 
-struct Candidates {
-  std::vector<std::size_t> clone;  // ascending
-  std::vector<std::size_t> split;  // ascending
-  std::size_t over_budget = 0;
-};
-
-// Gaussians whose mean gradient reaches the threshold, small ones to clone and large ones to
-// split, trimmed to the budget.
-Candidates select_candidates(const GaussianModel& model, const std::vector<float>& grads,
-                             const DensityControlSettings& settings, float scene_extent) {
+DensifyCandidates select_densify_candidates(const GaussianModel& model,
+                                            const std::vector<float>& grads,
+                                            const DensityControlSettings& settings,
+                                            float scene_extent) {
   const std::size_t n = model.size();
   const float clone_limit = float(settings.percent_dense * double(scene_extent));
   std::vector<std::uint8_t> is_clone(n, 0), is_split(n, 0);
@@ -71,7 +64,7 @@ Candidates select_candidates(const GaussianModel& model, const std::vector<float
     all.push_back(i);
   }
 
-  Candidates out;
+  DensifyCandidates out;
   if (settings.max_gaussians > 0) {
     // Largest mean gradient first, then lower index: a total order, so the choice is unique.
     std::sort(all.begin(), all.end(), [&](std::size_t a, std::size_t b) {
@@ -96,9 +89,6 @@ Candidates select_candidates(const GaussianModel& model, const std::vector<float
   return out;
 }
 
-// split_count new Gaussians per source, in the official order (all sources for the first
-// sample, then all for the second, ...): mean + R(q)·(scale ⊙ z) with z ~ N(0, I),
-// log_scale = log(scale / divisor), everything else copied.
 GaussianModel split_offspring(const GaussianModel& model, const std::vector<std::size_t>& sources,
                               const DensityControlSettings& settings, std::mt19937& rng,
                               std::vector<std::size_t>& offspring_sources) {
@@ -125,8 +115,6 @@ GaussianModel split_offspring(const GaussianModel& model, const std::vector<std:
   }
   return born;
 }
-
-}  // namespace
 
 void DensificationStats::reset(std::size_t n) {
   grad_accum.assign(n, 0.0f);
@@ -192,13 +180,13 @@ DensityControlReport DensityControl::densify_and_prune(GaussianModel& model, Ada
   std::vector<float> grads(n, 0.0f);
   for (std::size_t i = 0; i < n; ++i)
     if (stats_.denom[i] > 0) grads[i] = stats_.grad_accum[i] / stats_.denom[i];
-  const Candidates candidates = select_candidates(model, grads, settings_, scene_extent);
+  const DensifyCandidates candidates = select_densify_candidates(model, grads, settings_, scene_extent);
   report.cloned = candidates.clone.size();
   report.split = candidates.split.size();
   report.over_budget = candidates.over_budget;
 
-  std::vector<float> max_radii = stats_.max_radii;
-  Rows rows{model, adam, max_radii};
+  std::vector<float> max_radii = stats_.max_radii;  // carried so screen-size pruning can use it
+  AlignedRows rows{model, adam, {&max_radii}};
 
   // Clone: exact copies appended after the existing rows.
   rows.append_copies(candidates.clone, model.gather_rows(candidates.clone));
@@ -208,7 +196,7 @@ DensityControlReport DensityControl::densify_and_prune(GaussianModel& model, Ada
   std::vector<std::size_t> offspring_sources;
   GaussianModel born =
       split_offspring(model, candidates.split, settings_, rng, offspring_sources);
-  rows.append_copies(offspring_sources, std::move(born));
+  rows.append_copies(offspring_sources, born);
 
   // Prune, in the same pass that removes the split originals (one compaction instead of the
   // official two; the surviving rows and their order are the same).

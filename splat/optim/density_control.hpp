@@ -126,6 +126,44 @@ class DensityControl {
   DensificationStats stats_;
 };
 
+// ---- Pieces the strategies share ------------------------------------------------------
+
+// The same row operations on a model, both Adam moments and any per-row statistics, so they
+// stay aligned: new rows get zero moments (the official concatenates zeros) and a copy of
+// their source's statistics; the shared Adam step count is kept.
+struct AlignedRows {
+  GaussianModel& model;
+  AdamState& adam;
+  std::vector<std::vector<float>*> stats;  // each [N]
+
+  // Appends `born` (one row per entry of `sources`, the rows they were made from).
+  void append_copies(const std::vector<std::size_t>& sources, const GaussianModel& born);
+  // Keeps the rows whose flag is non-zero, in order.
+  void keep(const std::vector<std::uint8_t>& flags);
+};
+
+struct DensifyCandidates {
+  std::vector<std::size_t> clone;  // ascending
+  std::vector<std::size_t> split;  // ascending
+  std::size_t over_budget = 0;     // left out because of settings.max_gaussians
+};
+
+// Gaussians whose mean gradient `grads[i]` reaches settings.densify_grad_threshold, small ones
+// (max scale ≤ percent_dense × extent) to clone and large ones to split, trimmed to
+// settings.max_gaussians by largest gradient first (ties to the lower index).
+DensifyCandidates select_densify_candidates(const GaussianModel& model,
+                                            const std::vector<float>& grads,
+                                            const DensityControlSettings& settings,
+                                            float scene_extent);
+
+// split_count new Gaussians per source, in the official order (all sources for the first
+// sample, then all for the second, ...): mean + R(q)·(scale ⊙ z) with z ~ N(0, I),
+// log_scale = log(scale / divisor), everything else copied. `offspring_sources` receives the
+// source row of each new Gaussian.
+GaussianModel split_offspring(const GaussianModel& model, const std::vector<std::size_t>& sources,
+                              const DensityControlSettings& settings, std::mt19937& rng,
+                              std::vector<std::size_t>& offspring_sources);
+
 // Caps every opacity at `cap`: logit ← inverse_sigmoid(min(sigmoid(logit), cap)), and zeroes
 // the opacity moments (the official replace_tensor_to_optimizer); step count kept.
 void reset_opacity(GaussianModel& model, AdamState& adam, float cap);

@@ -37,13 +37,14 @@ struct TileReverseState {
 
 // Gradient sums of one Gaussian over the tile's pixels, lane-wise until the end.
 struct GradAccum {
-  f32v mean_x{}, mean_y{}, conic_a{}, conic_b{}, conic_c{}, opacity{}, color[3]{};
+  f32v mean_x{}, mean_y{}, conic_a{}, conic_b{}, conic_c{}, opacity{}, color[3]{}, weight{};
 
   Splat2DGrad reduce() const {
     using simd::reduce_add;
     return {reduce_add(mean_x),   reduce_add(mean_y),   reduce_add(conic_a),
             reduce_add(conic_b),  reduce_add(conic_c),  reduce_add(opacity),
-            {reduce_add(color[0]), reduce_add(color[1]), reduce_add(color[2])}};
+            {reduce_add(color[0]), reduce_add(color[1]), reduce_add(color[2])},
+            reduce_add(weight)};
   }
 };
 
@@ -126,7 +127,7 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
           if (!simd::any(blended)) continue;
 
           f32v v_alpha, v_rgb[3];
-          composite_step_vjp(state.reverse[chunk], blended, alpha, red, green, blue,
+          acc.weight += composite_step_vjp(state.reverse[chunk], blended, alpha, red, green, blue,
                              state.v_pixel[chunk], state.final_transmittance[chunk],
                              state.background_dot_v[chunk], v_alpha, v_rgb);
           for (int ch = 0; ch < 3; ++ch) acc.color[ch] += v_rgb[ch];

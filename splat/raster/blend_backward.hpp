@@ -19,6 +19,9 @@ struct Splat2DGrad {
   float conic_a, conic_b, conic_c;  // power = −½(a dx² + c dy²) − b dx dy
   float opacity;                    // the activated opacity o
   float color[3];
+  // Not a gradient: Σ Tᵢαᵢ over the tile's pixels, how much of the image this Gaussian makes
+  // (density control prunes by it). Computed here because the backward walk has Tᵢαᵢ anyway.
+  float blend_weight;
 };
 
 // Writes overlap_grads[p] for every entry p of every tile list (zero where the Gaussian

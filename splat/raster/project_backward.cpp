@@ -12,11 +12,13 @@ namespace splat {
 void project_gaussians_backward(const GaussianModel& model, const Camera& camera, int sh_degree,
                                 const ProjectedGaussians& projected, const TileBins& bins,
                                 const std::vector<Splat2DGrad>& overlap_grads,
-                                GaussianModel& grads, std::vector<float>& viewspace_grad_norm) {
+                                GaussianModel& grads, std::vector<float>& viewspace_grad_norm,
+                                std::vector<float>& blend_weight) {
   const std::size_t n = model.size();
   grads.sh_degree = model.sh_degree;
   grads.resize(n);
   viewspace_grad_norm.resize(n);
+  blend_weight.resize(n);
   const int degree = std::clamp(sh_degree, 0, model.sh_degree);
   const int coeffs_per_gaussian = model.sh_coefficients() * 3;
   const glm::vec3 camera_center = camera.center_in_world();
@@ -35,6 +37,7 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
       std::fill(v_sh_out, v_sh_out + coeffs_per_gaussian, 0.0f);
       grads.opacity_logits[i] = 0.0f;
       viewspace_grad_norm[i] = 0.0f;
+      blend_weight[i] = 0.0f;
       const std::uint32_t first = bins.overlap_start[i], last = bins.overlap_start[i + 1];
       if (first == last) continue;
 
@@ -49,7 +52,9 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
         g.conic_c += o.conic_c;
         g.opacity += o.opacity;
         for (int c = 0; c < 3; ++c) g.color[c] += o.color[c];
+        g.blend_weight += o.blend_weight;
       }
+      blend_weight[i] = g.blend_weight;
       viewspace_grad_norm[i] = std::hypot(g.mean_x * 0.5f * float(camera.width),
                                           g.mean_y * 0.5f * float(camera.height));
 

@@ -18,9 +18,11 @@ namespace splat {
 // `grads` is resized like `model` and overwritten. `viewspace_grad_norm[i]` receives the norm
 // of ∂L/∂(2D mean) in normalised device units (pixels × (W/2, H/2)), as the reference
 // trainer accumulates it for densification; 0 for Gaussians that touch no tile.
+// `blend_weight[i]` receives Σ Tα over all pixels (the overlaps' blend_weight summed).
 void project_gaussians_backward(const GaussianModel& model, const Camera& camera, int sh_degree,
                                 const ProjectedGaussians& projected, const TileBins& bins,
                                 const std::vector<Splat2DGrad>& overlap_grads,
-                                GaussianModel& grads, std::vector<float>& viewspace_grad_norm);
+                                GaussianModel& grads, std::vector<float>& viewspace_grad_norm,
+                                std::vector<float>& blend_weight);
 
 }  // namespace splat

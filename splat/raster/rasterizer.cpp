@@ -60,7 +60,7 @@ void Rasterizer::backward(const GaussianModel& model, const Camera& camera,
 
   start = Clock::now();
   project_gaussians_backward(model, camera, settings.sh_degree, projected_, bins_, overlap_grads_,
-                             grads.params, grads.viewspace_grad_norm);
+                             grads.params, grads.viewspace_grad_norm, grads.blend_weight);
   timings_.project_backward_ms = ms_since(start);
 }
 

@@ -31,6 +31,8 @@ struct RenderTimings {
 struct RasterGradients {
   GaussianModel params;                     // ∂L/∂(raw parameters), shaped like the model
   std::vector<float> viewspace_grad_norm;   // [N] ‖∂L/∂(2D mean)‖ in NDC units (densification)
+  std::vector<float> blend_weight;          // [N] Σ over pixels of Tα: how much of the image
+                                            // each Gaussian makes (pruning by contribution)
 };
 
 class Rasterizer {

@@ -2,7 +2,8 @@
 //   "SPLATCKP" | uint32 version | uint64 header bytes | header JSON | arrays
 // Each array: uint64 element count, then that many little-endian float32. The arrays are the
 // model's five parameter arrays, then Adam's first and second moments (five each), then the
-// densification statistics (three).
+// density strategy's statistics (DensityStrategy::checkpoint_arrays: three for the official
+// strategy, in the order every version-1 checkpoint has them).
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -57,6 +58,7 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
   std::ostringstream rng_state;
   rng_state << rng_;
   header["rng"] = rng_state.str();
+  header["strategy_state"] = strategy_->checkpoint_state();
   const std::string text = header.dump();
 
   write_atomically(file, [&](const std::filesystem::path& temp) {
@@ -68,8 +70,7 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
     out.write(text.data(), std::streamsize(size));
     for (const GaussianModel* g : {&model_, &adam_.first_moment, &adam_.second_moment})
       for (const std::vector<float>* a : model_arrays(*g)) write_array(out, *a);
-    const DensificationStats& s = density_.stats();
-    for (const std::vector<float>* a : {&s.grad_accum, &s.denom, &s.max_radii}) write_array(out, *a);
+    for (const std::vector<float>* a : strategy_->checkpoint_arrays()) write_array(out, *a);
     if (!out) throw InputError(file, "cannot write the checkpoint");
   });
 }
@@ -126,20 +127,19 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
   const std::uint64_t remaining = file_size - std::uint64_t(in.tellg());
   for (GaussianModel* g : {&model_, &adam_.first_moment, &adam_.second_moment})
     for (std::vector<float>* a : model_arrays(*g)) read_array(in, *a, remaining, file);
-  DensificationStats s;
-  for (std::vector<float>* a : {&s.grad_accum, &s.denom, &s.max_radii}) read_array(in, *a, remaining, file);
+  // The checkpoint's config named the strategy: its statistics follow the moments.
+  strategy_ = make_density_strategy(config_, 0);
+  for (std::vector<float>* a : strategy_->checkpoint_arrays()) read_array(in, *a, remaining, file);
   try {
     model_.check_consistent();
     adam_.first_moment.check_consistent();
     adam_.second_moment.check_consistent();
+    if (adam_.first_moment.size() != model_.size() || adam_.second_moment.size() != model_.size())
+      throw ArgumentError("the Adam moments and the model disagree in length");
+    strategy_->checkpoint_loaded(header.value("strategy_state", nlohmann::json::object()), model_.size());
   } catch (const ArgumentError& e) {
     throw InputError(file, std::string("checkpoint arrays are inconsistent: ") + e.what());
   }
-  if (adam_.first_moment.size() != model_.size() || adam_.second_moment.size() != model_.size() ||
-      s.size() != model_.size() || s.grad_accum.size() != s.size() || s.max_radii.size() != s.size())
-    throw InputError(file, "checkpoint arrays disagree in length");
-  density_ = DensityControl(config_.density, model_.size());
-  density_.stats() = s;
   last_good_model_ = model_;
 }
 

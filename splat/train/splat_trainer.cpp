@@ -5,6 +5,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
+#include "splat/data/resample.hpp"
 #include "splat/eval/metrics.hpp"
 #include "splat/gaussians/initialization.hpp"
 #include "splat/optim/lr_schedule.hpp"
@@ -42,17 +43,16 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
       config_(config),
       scene_extent_(dataset.scene_extent),
       model_(initial_model(dataset, config)),
-      density_(config.density, model_.size()),
       rng_(config.seed) {
   if (dataset.train.empty()) throw ArgumentError("training needs at least one training view");
   config_.density.white_background =
       config.background[0] == 1.0f && config.background[1] == 1.0f && config.background[2] == 1.0f;
-  density_ = DensityControl(config_.density, model_.size());
+  strategy_ = make_density_strategy(config_, model_.size());
   adam_.reset_like(model_);
   last_good_model_ = model_;
 }
 
-const DatasetView& SplatTrainer::next_view() {
+std::size_t SplatTrainer::next_view() {
   // As the official trainer: a random permutation of the training views, consumed one per
   // iteration and refilled when empty.
   if (view_stack_.empty())
@@ -61,7 +61,19 @@ const DatasetView& SplatTrainer::next_view() {
   const std::size_t slot = pick(rng_);
   const std::size_t view = view_stack_[slot];
   view_stack_.erase(view_stack_.begin() + std::ptrdiff_t(slot));
-  return dataset_.train[view];
+  return view;
+}
+
+const Image& SplatTrainer::training_image(std::size_t view, int divisor) {
+  const Image& full = dataset_.train[view].image;
+  if (divisor <= 1) return full;
+  if (reduced_images_.size() <= std::size_t(divisor)) reduced_images_.resize(std::size_t(divisor) + 1);
+  std::vector<Image>& images = reduced_images_[std::size_t(divisor)];
+  if (images.empty()) images.resize(dataset_.train.size());
+  Image& reduced = images[view];
+  if (reduced.width == 0)
+    reduced = resample_area(full, std::max(1, full.width / divisor), std::max(1, full.height / divisor));
+  return reduced;
 }
 
 GroupLearningRates SplatTrainer::learning_rates() const {
@@ -83,19 +95,24 @@ StepResult SplatTrainer::step() {
   StepResult result;
   if (config_.sh_increase_interval > 0 && iteration % config_.sh_increase_interval == 0)
     active_sh_degree_ = std::min(active_sh_degree_ + 1, model_.sh_degree);
-  const DatasetView& view = next_view();
+  const std::size_t view = next_view();
+  result.resolution_divisor = strategy_->resolution_divisor(iteration);
+  const Image& target = training_image(view, result.resolution_divisor);
+  const Camera camera = result.resolution_divisor == 1
+                            ? dataset_.train[view].camera
+                            : dataset_.train[view].camera.resized(target.width, target.height);
   RenderSettings settings;
   settings.sh_degree = active_sh_degree_;
   std::copy(config_.background, config_.background + 3, settings.background);
   settings.alpha_clamp_gradient = config_.alpha_clamp_gradient;
 
   auto start = Clock::now();
-  rasterizer_.render(model_, view.camera, settings, render_);
+  rasterizer_.render(model_, camera, settings, render_);
   result.timings.forward = ms_since(start);
 
   start = Clock::now();
   const LossValue loss =
-      photometric_loss(render_.color, view.image, config_.ssim_weight, &v_image_, ssim_scratch_);
+      photometric_loss(render_.color, target, config_.ssim_weight, &v_image_, ssim_scratch_);
   result.timings.loss = ms_since(start);
   result.loss = loss.loss;
   result.l1 = loss.l1;
@@ -103,18 +120,17 @@ StepResult SplatTrainer::step() {
   if (!std::isfinite(loss.loss)) throw TrainingDiverged(iteration, "loss");
 
   start = Clock::now();
-  rasterizer_.backward(model_, view.camera, settings, render_, v_image_, grads_);
+  rasterizer_.backward(model_, camera, settings, render_, v_image_, grads_);
   result.timings.backward = ms_since(start);
 
   start = Clock::now();
-  // The run's last iteration neither densifies nor resets opacities: the official trainer
-  // saves and scores its model at iteration N before that iteration's density control, and
-  // fresh clones and splits that never get a step only depress the result. (Extending a
-  // finished run with --resume and more iterations therefore misses that one densification;
-  // the statistics are still gathered.)
-  result.density = density_.step(iteration, model_, adam_, grads_.viewspace_grad_norm,
-                                 rasterizer_.projected().radius, scene_extent_, rng_,
-                                 /*stats_only=*/iteration == config_.iterations);
+  // The run's last iteration only gathers statistics (see DensityStrategy). Extending a
+  // finished run with --resume and more iterations therefore misses that one decision.
+  TrainingState state{model_, adam_, rng_, scene_extent_};
+  const BackwardStats stats{grads_.viewspace_grad_norm, rasterizer_.projected().radius,
+                            grads_.blend_weight, camera.width, camera.height};
+  result.density = strategy_->step_post_backward(iteration, iteration == config_.iterations,
+                                                 state, grads_.params, stats);
   result.timings.densify = ms_since(start);
 
   start = Clock::now();
@@ -122,11 +138,13 @@ StepResult SplatTrainer::step() {
   // trainer, so its optimiser skips the step; after an opacity reset only the opacities do.
   // (train.py also skips the last iteration's step; we take it, so that a run resumed from
   // a checkpoint is identical to one that never stopped.)
+  const GroupLearningRates lr = learning_rates();
   if (!result.density.densified) {
     AdamGroupMask active;
     active.opacity = !result.density.opacity_reset;
-    adam_step(model_, grads_.params, adam_, learning_rates(), {}, active);
+    adam_step(model_, grads_.params, adam_, lr, {}, active);
   }
+  strategy_->step_post_optimizer(iteration, state, lr.means);
   // The cheap groups every iteration; SH coefficients (most of the data) less often: a NaN
   // there shows in the next loss anyway.
   const std::pair<const char*, const std::vector<float>*> groups[] = {

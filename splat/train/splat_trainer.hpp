@@ -1,8 +1,10 @@
 #pragma once
 // The Gaussian-splatting trainer: the official 3DGS optimisation loop on the CPU rasterizer.
 // One step() is one iteration: pick a training view, render, (1 − λ)·L1 + λ·(1 − SSIM),
-// backward, density control, Adam. No printing: the command line reports progress.
+// backward, density control (the configured DensityStrategy's hooks), Adam. No printing: the
+// command line reports progress.
 #include <filesystem>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -10,9 +12,9 @@
 #include "splat/core/error.hpp"
 #include "splat/data/dataset.hpp"
 #include "splat/optim/adam.hpp"
-#include "splat/optim/density_control.hpp"
 #include "splat/optim/photometric_loss.hpp"
 #include "splat/raster/rasterizer.hpp"
+#include "splat/train/density_strategy.hpp"
 #include "splat/train/training_config.hpp"
 
 namespace splat {
@@ -38,8 +40,9 @@ struct IterationTimings {  // milliseconds
 
 struct StepResult {
   double loss = 0, l1 = 0, ssim = 0;
+  int resolution_divisor = 1;  // the image trained on was 1/this of the full size
   IterationTimings timings;
-  DensityControlReport density;
+  DensityStepReport density;
 };
 
 struct Evaluation {
@@ -70,6 +73,7 @@ class SplatTrainer {
   const GaussianModel& last_good_model() const { return last_good_model_; }
   const SplatTrainingConfig& config() const { return config_; }
   float scene_extent() const { return scene_extent_; }
+  const DensityStrategy& strategy() const { return *strategy_; }
 
   // Throws TrainingDiverged naming the first parameter group with a non-finite value.
   void check_parameters_finite() const;
@@ -82,7 +86,9 @@ class SplatTrainer {
   void load_checkpoint(const std::filesystem::path& file);
 
  private:
-  const DatasetView& next_view();
+  std::size_t next_view();
+  // The training image of view `view` at 1/divisor of its size (built once, then kept).
+  const Image& training_image(std::size_t view, int divisor);
   GroupLearningRates learning_rates() const;
 
   const Dataset& dataset_;
@@ -90,7 +96,7 @@ class SplatTrainer {
   float scene_extent_;
   GaussianModel model_, last_good_model_;
   AdamState adam_;
-  DensityControl density_;
+  std::unique_ptr<DensityStrategy> strategy_;
   std::mt19937 rng_;
   std::vector<std::size_t> view_stack_;  // training views not yet used in this epoch
   int iteration_ = 0;
@@ -101,6 +107,7 @@ class SplatTrainer {
   RasterGradients grads_;
   Image v_image_;
   SsimScratch ssim_scratch_;
+  std::vector<std::vector<Image>> reduced_images_;  // [divisor][view], empty until needed
 };
 
 }  // namespace splat

@@ -1,0 +1,16 @@
+#include "splat/train/density_strategy.hpp"
+
+#include "splat/core/error.hpp"
+#include "splat/train/official_strategy.hpp"
+#include "splat/train/training_config.hpp"
+
+namespace splat {
+
+std::unique_ptr<DensityStrategy> make_density_strategy(const SplatTrainingConfig& config,
+                                                       std::size_t gaussian_count) {
+  if (config.strategy == "official")
+    return std::make_unique<OfficialStrategy>(config.density, gaussian_count);
+  throw ArgumentError("unknown density strategy '" + config.strategy + "'");
+}
+
+}  // namespace splat
