@@ -21,6 +21,10 @@ DIR/test/<view>.png, DIR/config.json and DIR/checkpoint.ckpt.
                         or COLMAP folder (sparse/0, images/), detected automatically
   --out DIR             output folder (created if missing)
   --method splat|nerf   splat (default); nerf is the MLP NeRF baseline (writes model.nerf)
+  --strategy compact|official
+                        density control of the splats: compact (default) grows the model
+                        only while it pays and prunes what contributes nothing; official
+                        is the official 3DGS recipe, bit for bit
   --iters N             iterations (default 30000 splat, 20000 nerf)
   --max-seconds S       stop after S seconds of wall time (whichever limit comes first)
   --bg white|black      background the RGBA images are composited onto (default white)
@@ -70,7 +74,7 @@ void apply_options(const splat::cli::ArgParser& args, Config& config,
 int main(int argc, char** argv) {
   return splat::cli::run_main([&] {
     splat::cli::ArgParser args(argc, argv,
-                               {"data", "out", "method", "iters", "max-seconds", "bg", "seed",
+                               {"data", "out", "method", "strategy", "iters", "max-seconds", "bg", "seed",
                                 "threads", "downscale", "max-gaussians", "test-every",
                                 "checkpoint-every", "resume", "config"},
                                {"help", "quiet"});
@@ -88,9 +92,16 @@ int main(int argc, char** argv) {
     if (options.method == "nerf") {
       if (args.value("max-gaussians"))
         throw splat::ArgumentError("--max-gaussians is a splat setting; --method nerf has no Gaussians");
+      if (args.value("strategy"))
+        throw splat::ArgumentError("--strategy is a splat setting; --method nerf has no density control");
       apply_options(args, options.nerf_config, options);
     } else {
+      const auto strategy = args.value("strategy");
+      options.config = splat::splat_training_preset(strategy.value_or("compact"));
       apply_options(args, options.config, options);
+      if (strategy && options.config.strategy != *strategy)
+        throw splat::ArgumentError("--strategy " + *strategy + " conflicts with the config file's strategy '" +
+                                   options.config.strategy + "'");
       if (auto n = args.positive_integer("max-gaussians")) options.config.density.max_gaussians = std::size_t(*n);
     }
     if (auto n = args.positive_integer("threads")) options.threads = *n;

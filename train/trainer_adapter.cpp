@@ -50,7 +50,11 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
   void write_last_good_model(const std::filesystem::path& file) const override {
     write_ply(trainer_.last_good_model(), file);
   }
-  void add_metrics(nlohmann::json& m) const override { m["scene_extent"] = trainer_.scene_extent(); }
+  void add_metrics(nlohmann::json& m) const override {
+    m["scene_extent"] = trainer_.scene_extent();
+    m["strategy"] = trainer_.strategy().name();
+    m["density_control"] = trainer_.strategy().metrics();
+  }
 };
 
 class NerfAdapter final : public DelegatingAdapter<NerfTrainer, NerfTrainingConfig> {

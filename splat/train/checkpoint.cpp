@@ -128,7 +128,7 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
   for (GaussianModel* g : {&model_, &adam_.first_moment, &adam_.second_moment})
     for (std::vector<float>* a : model_arrays(*g)) read_array(in, *a, remaining, file);
   // The checkpoint's config named the strategy: its statistics follow the moments.
-  strategy_ = make_density_strategy(config_, 0);
+  strategy_ = make_density_strategy(config_, dataset_.train.size(), 0);
   for (std::vector<float>* a : strategy_->checkpoint_arrays()) read_array(in, *a, remaining, file);
   try {
     model_.check_consistent();

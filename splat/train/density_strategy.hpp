@@ -90,8 +90,10 @@ class DensityStrategy {
   virtual nlohmann::json metrics() const { return nlohmann::json::object(); }
 };
 
-// The strategy named by config.strategy, for a model of `gaussian_count` rows.
+// The strategy named by config.strategy, for a dataset of `train_views` training views and
+// a model of `gaussian_count` rows.
 std::unique_ptr<DensityStrategy> make_density_strategy(const SplatTrainingConfig& config,
+                                                       std::size_t train_views,
                                                        std::size_t gaussian_count);
 
 }  // namespace splat

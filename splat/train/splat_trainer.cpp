@@ -47,7 +47,7 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
   if (dataset.train.empty()) throw ArgumentError("training needs at least one training view");
   config_.density.white_background =
       config.background[0] == 1.0f && config.background[1] == 1.0f && config.background[2] == 1.0f;
-  strategy_ = make_density_strategy(config_, model_.size());
+  strategy_ = make_density_strategy(config_, dataset.train.size(), model_.size());
   adam_.reset_like(model_);
   last_good_model_ = model_;
 }

@@ -45,6 +45,23 @@ void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
   v("prune_by_screen_size", d.prune_by_screen_size);
   v("opacity_reset_value", d.opacity_reset_value);
   v("max_gaussians", d.max_gaussians);
+  CompactSettings& k = c.compact;
+  v("compact_warmup_divisor", k.warmup_divisor);
+  v("compact_warmup_until", k.warmup_until);
+  v("compact_grow_from", k.grow_from);
+  v("compact_grow_until", k.grow_until);
+  v("compact_grow_interval", k.grow_interval);
+  v("compact_grow_grad_threshold", k.grow_grad_threshold);
+  v("compact_grow_max_fraction", k.grow_max_fraction);
+  v("compact_prune_opacity", k.prune_opacity);
+  v("compact_prune_weight", k.prune_weight);
+  v("compact_prune_window", k.prune_window);
+  v("compact_prune_until", k.prune_until);
+  v("compact_opacity_reset_interval", k.opacity_reset_interval);
+  v("compact_opacity_reset_value", k.opacity_reset_value);
+  v("compact_opacity_regularization", k.opacity_regularization);
+  v("compact_scale_regularization", k.scale_regularization);
+  v("compact_noise_lr", k.noise_lr);
   v("test_interval", c.test_interval);
   v("checkpoint_interval", c.checkpoint_interval);
 }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "splat/optim/density_control.hpp"
+#include "splat/train/compact_settings.hpp"
 #include "splat/raster/rasterizer.hpp"
 
 namespace splat {
@@ -36,6 +37,7 @@ struct SplatTrainingConfig {
   float random_init_half_extent = 1.3f;     // cube [−h, h]³
 
   DensityControlSettings density;    // includes max_gaussians (the Gaussian budget)
+  CompactSettings compact;           // the compact strategy's own settings
   AlphaClampGradient alpha_clamp_gradient = AlphaClampGradient::kZero;
 
   int test_interval = 1000;          // iterations between test evaluations (0 = end only)

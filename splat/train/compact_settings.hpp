@@ -1,0 +1,43 @@
+#pragma once
+// Settings of the compact density strategy (compact_strategy.hpp), part of the training
+// config (config.json keys "compact_<name>").
+namespace splat {
+
+struct CompactSettings {
+  // Resolution warm-up: before iteration `warmup_until` the images are trained at reduced
+  // size, 1/warmup_divisor at first, the divisor halving at equal steps (1 = off).
+  int warmup_divisor = 1;
+  int warmup_until = 0;
+
+  // Growth, every grow_interval iterations after grow_from up to grow_until: Gaussians whose
+  // mean view-space gradient reaches grow_grad_threshold are cloned (small) or split
+  // (large) as the official recipe does, the largest gradients first, at most
+  // grow_max_fraction × N new Gaussians per step.
+  int grow_from = 500;
+  int grow_until = 15000;
+  int grow_interval = 100;
+  float grow_grad_threshold = 2e-4f;
+  double grow_max_fraction = 0.05;
+
+  // Pruning: at every growth step, Gaussians below prune_opacity; at the end of every
+  // window of prune_window iterations (0 = one epoch of the training views, at least
+  // grow_interval) from grow_from to prune_until, Gaussians whose blending weight summed over
+  // the window (in full-size pixels) is below prune_weight: they made nothing visible.
+  float prune_opacity = 0.005f;
+  float prune_weight = 0.0f;
+  int prune_window = 0;
+  int prune_until = 30000;
+
+  // Opacity reset as the official recipe (0 = never).
+  int opacity_reset_interval = 0;
+  float opacity_reset_value = 0.01f;
+
+  // MCMC-style terms (Kheradmand et al. 2024): L1 regularisers on opacity and scale (means
+  // over the model) and position noise scaled by the means' learning rate, strongest for
+  // transparent Gaussians. 0 = off.
+  float opacity_regularization = 0.0f;
+  float scale_regularization = 0.0f;
+  float noise_lr = 0.0f;
+};
+
+}  // namespace splat

@@ -1,0 +1,237 @@
+#include "splat/train/compact_strategy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <tbb/parallel_for.h>
+
+#include "splat/core/error.hpp"
+#include "splat/raster/projection_math.hpp"
+
+namespace splat {
+
+namespace {
+
+float sigmoid(float x) { return 1.0f / (1.0f + std::exp(-x)); }
+
+// A counter-based random stream: the value for (seed, iteration, index) is a pure function of
+// them, so per-Gaussian noise can be drawn in parallel and does not depend on thread count.
+std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+// Three standard normals for one Gaussian (Box–Muller on four 24-bit uniforms).
+Vec3<float> normal3(unsigned seed, int iteration, std::size_t index) {
+  const std::uint64_t key = splitmix64(splitmix64(seed) ^ (std::uint64_t(iteration) << 40) ^ index);
+  const std::uint64_t a = splitmix64(key), b = splitmix64(key ^ 0x5851f42d4c957f2dull);
+  auto uniform = [](std::uint64_t bits) { return double((bits >> 40) & 0xffffff) / 16777216.0; };
+  const double r0 = std::sqrt(-2.0 * std::log(1.0 - uniform(a))), t0 = 2.0 * M_PI * uniform(a >> 24 << 40);
+  const double r1 = std::sqrt(-2.0 * std::log(1.0 - uniform(b))), t1 = 2.0 * M_PI * uniform(b >> 24 << 40);
+  return {float(r0 * std::cos(t0)), float(r0 * std::sin(t0)), float(r1 * std::cos(t1))};
+}
+
+}  // namespace
+
+CompactStrategy::CompactStrategy(const CompactSettings& settings,
+                                 const DensityControlSettings& density, std::size_t train_views,
+                                 unsigned seed, std::size_t gaussian_count)
+    : settings_(settings), density_(density), seed_(seed) {
+  if (settings.grow_interval < 1) throw ArgumentError("compact strategy: grow_interval must be >= 1");
+  if (settings.warmup_divisor < 1) throw ArgumentError("compact strategy: warmup_divisor must be >= 1");
+  if (!(settings.grow_max_fraction >= 0)) throw ArgumentError("compact strategy: grow_max_fraction must be >= 0");
+  window_ = settings.prune_window > 0 ? settings.prune_window
+                                      : std::max<int>(settings.grow_interval, int(train_views));
+  reset_stats(gaussian_count);
+  window_weight_.assign(gaussian_count, 0.0f);
+}
+
+void CompactStrategy::reset_stats(std::size_t n) {
+  grad_accum_.assign(n, 0.0f);
+  visible_views_.assign(n, 0.0f);
+}
+
+AlignedRows CompactStrategy::rows(TrainingState& state) {
+  return {state.model, state.adam, {&grad_accum_, &visible_views_, &window_weight_}};
+}
+
+int CompactStrategy::resolution_divisor(int iteration) const {
+  const int d0 = settings_.warmup_divisor;
+  if (d0 <= 1 || iteration > settings_.warmup_until) return 1;
+  int levels = 0;
+  while ((1 << (levels + 1)) <= d0) ++levels;  // halvings from d0 down to 1
+  const int stage = int(std::int64_t(iteration - 1) * levels / std::max(1, settings_.warmup_until));
+  return std::max(1, d0 >> stage);
+}
+
+void CompactStrategy::add_regularization(const GaussianModel& model, GaussianModel& grads) const {
+  const std::size_t n = model.size();
+  if (n == 0) return;
+  // ∂/∂logit of λ·mean(sigmoid(logit)) and ∂/∂log_scale of λ·mean(exp(log_scale)).
+  const float opacity_coefficient = settings_.opacity_regularization / float(n);
+  const float scale_coefficient = settings_.scale_regularization / float(3 * n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      if (opacity_coefficient > 0) {
+        const float o = sigmoid(model.opacity_logits[i]);
+        grads.opacity_logits[i] += opacity_coefficient * o * (1.0f - o);
+      }
+      if (scale_coefficient > 0)
+        for (int a = 0; a < 3; ++a)
+          grads.log_scales[3 * i + a] += scale_coefficient * std::exp(model.log_scales[3 * i + a]);
+    }
+  });
+}
+
+DensityStepReport CompactStrategy::step_post_backward(int iteration, bool last_iteration,
+                                                      TrainingState& state, GaussianModel& grads,
+                                                      const BackwardStats& stats) {
+  const std::size_t n = state.model.size();
+  if (grad_accum_.size() != n || stats.viewspace_grad_norm.size() != n || stats.radii.size() != n ||
+      stats.blend_weight.size() != n)
+    throw ArgumentError("compact strategy: statistics for " + std::to_string(grad_accum_.size()) +
+                        " Gaussians, the model has " + std::to_string(n));
+  if (settings_.opacity_regularization > 0 || settings_.scale_regularization > 0)
+    add_regularization(state.model, grads);
+
+  // Blending weights at a reduced size count reduced pixels: scale them to full-size ones.
+  const int divisor = resolution_divisor(iteration);
+  const float pixel_scale = float(divisor * divisor);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (stats.radii[i] <= 0) continue;
+    grad_accum_[i] += stats.viewspace_grad_norm[i];
+    visible_views_[i] += 1.0f;
+    window_weight_[i] += stats.blend_weight[i] * pixel_scale;
+  }
+
+  DensityStepReport report;
+  report.count_after = n;
+  if (last_iteration) return report;
+  const CompactSettings& s = settings_;
+  if (iteration > s.grow_from && iteration <= s.grow_until && iteration % s.grow_interval == 0)
+    grow(iteration, state, report);
+  if (s.prune_weight > 0 && iteration >= s.grow_from && iteration <= s.prune_until &&
+      iteration % window_ == 0)
+    prune_by_weight(state, report);
+  if (iteration % window_ == 0) std::fill(window_weight_.begin(), window_weight_.end(), 0.0f);
+  if (s.opacity_reset_interval > 0 && iteration <= s.grow_until &&
+      iteration % s.opacity_reset_interval == 0) {
+    reset_opacity(state.model, state.adam, s.opacity_reset_value);
+    report.opacity_reset = true;
+  }
+  report.count_after = state.model.size();
+  return report;
+}
+
+void CompactStrategy::grow(int iteration, TrainingState& state, DensityStepReport& report) {
+  GaussianModel& model = state.model;
+  const std::size_t n = model.size();
+  std::vector<float> mean_grad(n, 0.0f);
+  for (std::size_t i = 0; i < n; ++i)
+    if (visible_views_[i] > 0) mean_grad[i] = grad_accum_[i] / visible_views_[i];
+
+  DensityControlSettings growth = density_;
+  growth.densify_grad_threshold = settings_.grow_grad_threshold;
+  const std::size_t step_room = n + std::size_t(std::floor(settings_.grow_max_fraction * double(n)));
+  growth.max_gaussians =
+      density_.max_gaussians > 0 ? std::min(step_room, density_.max_gaussians) : step_room;
+  const DensifyCandidates candidates =
+      select_densify_candidates(model, mean_grad, growth, state.scene_extent);
+
+  AlignedRows aligned = rows(state);
+  aligned.append_copies(candidates.clone, model.gather_rows(candidates.clone));
+  std::vector<std::size_t> offspring_sources;
+  const GaussianModel born =
+      split_offspring(model, candidates.split, growth, state.rng, offspring_sources);
+  aligned.append_copies(offspring_sources, born);
+
+  const std::size_t total = model.size();
+  std::vector<std::uint8_t> keep(total, 1);
+  for (std::size_t i : candidates.split) keep[i] = 0;
+  std::size_t pruned = 0;
+  for (std::size_t i = 0; i < total; ++i)
+    if (keep[i] && sigmoid(model.opacity_logits[i]) < settings_.prune_opacity) {
+      keep[i] = 0;
+      ++pruned;
+    }
+  aligned.keep(keep);
+  reset_stats(model.size());
+
+  const std::size_t added = candidates.clone.size() + offspring_sources.size();
+  report.densified = true;
+  report.added += added;
+  report.split += candidates.split.size();
+  report.pruned += pruned;
+  report.over_budget += candidates.over_budget;
+  total_added_ += added;
+  total_pruned_ += pruned;
+  if (added > 0) last_growth_iteration_ = iteration;
+}
+
+void CompactStrategy::prune_by_weight(TrainingState& state, DensityStepReport& report) {
+  const std::size_t n = state.model.size();
+  std::vector<std::uint8_t> keep(n, 1);
+  std::size_t pruned = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (window_weight_[i] < settings_.prune_weight) {
+      keep[i] = 0;
+      ++pruned;
+    }
+  if (pruned == 0) return;
+  AlignedRows aligned = rows(state);
+  aligned.keep(keep);
+  report.densified = true;
+  report.pruned += pruned;
+  total_pruned_ += pruned;
+}
+
+void CompactStrategy::step_post_optimizer(int iteration, TrainingState& state, float means_lr) {
+  if (settings_.noise_lr <= 0) return;
+  // MCMC's exploration noise: N(0, Σ) scaled by the means' step, switched on smoothly as the
+  // opacity falls below ~0.005 (sigmoid(100·((1 − o) − 0.995))), so opaque Gaussians stay put.
+  GaussianModel& model = state.model;
+  const float scale = settings_.noise_lr * means_lr;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, model.size(), 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      const float o = sigmoid(model.opacity_logits[i]);
+      const float gate = sigmoid(100.0f * ((1.0f - o) - 0.995f));
+      if (gate < 1e-7f) continue;
+      const Vec3<float> s(std::exp(model.log_scales[3 * i]), std::exp(model.log_scales[3 * i + 1]),
+                          std::exp(model.log_scales[3 * i + 2]));
+      const float* q = &model.quats[4 * i];
+      const Mat3<float> cov = covariance_3d(s, quat_to_rotmat(Vec4<float>(q[0], q[1], q[2], q[3])));
+      const Vec3<float> offset = cov * normal3(seed_, iteration, i) * (gate * scale);
+      for (int a = 0; a < 3; ++a) model.means[3 * i + a] += offset[a];
+    }
+  });
+}
+
+std::vector<std::vector<float>*> CompactStrategy::checkpoint_arrays() {
+  return {&grad_accum_, &visible_views_, &window_weight_};
+}
+
+nlohmann::json CompactStrategy::checkpoint_state() const {
+  return {{"last_growth_iteration", last_growth_iteration_},
+          {"total_added", total_added_},
+          {"total_pruned", total_pruned_}};
+}
+
+void CompactStrategy::checkpoint_loaded(const nlohmann::json& state, std::size_t gaussian_count) {
+  if (grad_accum_.size() != gaussian_count || visible_views_.size() != gaussian_count ||
+      window_weight_.size() != gaussian_count)
+    throw ArgumentError("compact strategy statistics hold " + std::to_string(grad_accum_.size()) +
+                        " rows, the model " + std::to_string(gaussian_count));
+  last_growth_iteration_ = state.value("last_growth_iteration", 0);
+  total_added_ = state.value("total_added", std::size_t(0));
+  total_pruned_ = state.value("total_pruned", std::size_t(0));
+}
+
+nlohmann::json CompactStrategy::metrics() const {
+  return {{"last_growth_iteration", last_growth_iteration_},
+          {"gaussians_added", total_added_},
+          {"gaussians_pruned", total_pruned_},
+          {"prune_window", window_}};
+}
+
+}  // namespace splat
