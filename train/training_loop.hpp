@@ -25,8 +25,8 @@ struct TrainingLoopOptions {
   const std::atomic<bool>* interrupt = nullptr;  // stop when set (Ctrl-C); none = never
 
   // Scoring points, any of them (none: never scored by the loop):
-  // every N iterations, before iteration N's step, for N < iterations (train_command.cpp
-  // says why before);
+  // every N iterations, before iteration N's step (why before: train_command.cpp), for
+  // N < iterations;
   int score_every_iterations = 0;
   // every T seconds of training time, checked before each step;
   double score_every_seconds = 0;
