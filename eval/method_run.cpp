@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "eval_methods.hpp"
 #include "progress_reporter.hpp"
 #include "splat/core/error.hpp"
 #include "splat/data/image_io.hpp"
@@ -70,8 +71,9 @@ class MethodObserver final : public TrainingObserver {
 }  // namespace
 
 MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, EvalProgress& progress) {
+  const std::optional<std::string> strategy = splat_strategy(request.method);
   TrainCommandOptions train_options;
-  train_options.method = request.method;
+  train_options.method = strategy ? "splat" : "nerf";
   train_options.config = request.splat_config;
   train_options.nerf_config = request.nerf_config;
   std::unique_ptr<TrainerAdapter> trainer = make_trainer(train_options, dataset);
@@ -80,6 +82,7 @@ MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, Ev
   MethodRun run;
   nlohmann::json& j = run.json;
   j["method"] = request.method;
+  if (strategy) j["strategy"] = request.splat_config.strategy;  // what ran: the config's
   MethodObserver observer(*trainer, request.out_dir, progress);
   TrainingLoopOptions loop;
   loop.iterations = trainer->schedule().iterations;
@@ -121,7 +124,7 @@ MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, Ev
   const double final_psnr = history.back()["test_psnr"], final_ssim = history.back()["test_ssim"];
   j["history"] = history;
   j["final"] = {{"psnr", final_psnr}, {"ssim", final_ssim}, {"views", dataset.test.size()}};
-  if (request.method == "splat") j["num_gaussians"] = trainer->num_gaussians();
+  if (strategy) j["num_gaussians"] = trainer->num_gaussians();
   j["num_params"] = trainer->num_params();
   j["model_bytes"] = fs::file_size(model_file);
   j["model_file"] = fs::relative(model_file, request.out_root).generic_string();
