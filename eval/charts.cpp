@@ -1,5 +1,6 @@
 #include "charts.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -42,30 +43,33 @@ std::string gp(const std::string& text) {
   return quoted + "'";
 }
 
-std::string display_name(const std::string& method) { return method == "nerf" ? "NeRF" : method; }
-
 void add_results_charts(const json& results, std::vector<Chart>& charts) {
   Chart psnr{"psnr_vs_time", "Test PSNR over training time", "training time (s)", "test PSNR (dB)", "", {}};
   Chart ssim{"ssim_vs_time", "Test SSIM over training time", "training time (s)", "test SSIM", "", {}};
   Chart bytes{"psnr_vs_model_bytes", "Test PSNR against model size (points over training time)",
               "model size (MB)", "test PSNR (dB)", "set logscale x\n", {}};
+  Chart gaussians{"psnr_vs_gaussians", "Test PSNR against Gaussian count (points over training time)",
+                  "Gaussians", "test PSNR (dB)", "set logscale x\n", {}};
   Chart render{"render_ms_vs_psnr", "Render time per test view against test PSNR (final models)",
                "test PSNR (dB)", "render time per view (ms, median)", "set logscale y\n", {}};
   for (const json& m : results.at("methods")) {
-    const std::string name = display_name(m.at("method"));
-    Series p{name, "linespoints lw 2", {}, {}}, s = p, b = p;
+    const std::string name = method_label(m);
+    Series p{name, "linespoints lw 2", {}, {}}, s = p, b = p, g = p;
     for (const json& h : m.at("history")) {
       p.points.emplace_back(h.at("seconds"), h.at("test_psnr"));
       s.points.emplace_back(h.at("seconds"), h.at("test_ssim"));
-      b.points.emplace_back(h.at("model_bytes").get<double>() / 1e6, h.at("test_psnr"));
+      // Older files may lack the sizes; the NeRF has no Gaussians (0).
+      if (h.contains("model_bytes")) b.points.emplace_back(h["model_bytes"].get<double>() / 1e6, h.at("test_psnr"));
+      if (h.value("num_gaussians", 0.0) > 0) g.points.emplace_back(h["num_gaussians"], h.at("test_psnr"));
     }
     psnr.series.push_back(p);
     ssim.series.push_back(s);
     bytes.series.push_back(b);
+    gaussians.series.push_back(g);
     if (m.contains("render_ms_per_view_median"))
       render.series.push_back({name, "points pt 7 ps 2", {{m["final"]["psnr"], m["render_ms_per_view_median"]}}, {}});
   }
-  for (Chart* c : {&psnr, &ssim, &bytes, &render}) charts.push_back(*c);
+  for (Chart* c : {&psnr, &ssim, &bytes, &gaussians, &render}) charts.push_back(*c);
 }
 
 // The sweep's runs as points: (x, y) chosen by `point`, labelled with their budget.
@@ -81,9 +85,10 @@ Series sweep_series(const json& sweep, const std::string& title, Point point) {
 }
 
 void add_sweep_charts(const json& sweep, std::vector<Chart>& charts) {
+  const std::string title = method_label(sweep) + ", budget sweep";
   Chart chart{"sweep_psnr_vs_gaussians", "Splat test PSNR against the Gaussian budget's model",
               "Gaussians in the final model", "test PSNR (dB)", "set logscale x\n", {}};
-  chart.series.push_back(sweep_series(sweep, "splat, budget sweep", [](const json& r) {
+  chart.series.push_back(sweep_series(sweep, title, [](const json& r) {
     return std::make_pair(r.at("num_gaussians").get<double>(), r.at("final").at("psnr").get<double>());
   }));
   if (sweep.contains("smallest_within")) {
@@ -95,11 +100,15 @@ void add_sweep_charts(const json& sweep, std::vector<Chart>& charts) {
   // The sweep also belongs on the size and render-time charts, beside the comparison.
   for (Chart& c : charts) {
     if (c.name == "psnr_vs_model_bytes")
-      c.series.push_back(sweep_series(sweep, "splat, budget sweep", [](const json& r) {
+      c.series.push_back(sweep_series(sweep, title, [](const json& r) {
         return std::make_pair(r.at("model_bytes").get<double>() / 1e6, r.at("final").at("psnr").get<double>());
       }));
+    if (c.name == "psnr_vs_gaussians")
+      c.series.push_back(sweep_series(sweep, title, [](const json& r) {
+        return std::make_pair(r.at("num_gaussians").get<double>(), r.at("final").at("psnr").get<double>());
+      }));
     if (c.name == "render_ms_vs_psnr")
-      c.series.push_back(sweep_series(sweep, "splat, budget sweep", [](const json& r) {
+      c.series.push_back(sweep_series(sweep, title, [](const json& r) {
         return std::make_pair(r.at("final").at("psnr").get<double>(), r.at("render_ms_per_view_median").get<double>());
       }));
   }
@@ -109,7 +118,7 @@ void add_stability_chart(const json& stability, std::vector<Chart>& charts) {
   Chart chart{"stability_psnr", "Test PSNR under each condition (diverged runs plotted at 0)", "",
               "test PSNR (dB)", "set xtics rotate by -30\nset offsets 0.5, 0.5, 0, 0\n", {}};
   std::string tics;
-  Series per_method[2] = {{"splat", "linespoints pt 7 ps 1.5", {}, {}}, {"NeRF", "linespoints pt 5 ps 1.5", {}, {}}};
+  std::vector<Series> per_method;  // in the order the runs name them
   int x = 0;
   for (const json& c : stability.at("conditions")) {
     if (!c.contains("runs")) continue;
@@ -118,14 +127,20 @@ void add_stability_chart(const json& stability, std::vector<Chart>& charts) {
     for (char ch : c.at("name").get<std::string>()) label += ch == '%' ? std::string("%%") : std::string(1, ch);
     tics += (tics.empty() ? "" : ", ") + gp(label) + " " + std::to_string(x);
     for (const json& r : c.at("runs")) {
-      const int m = r.at("method") == "splat" ? 0 : 1;
-      per_method[m].points.emplace_back(x, r.contains("final") ? r["final"]["psnr"].get<double>() : 0.0);
-      per_method[m].labels.push_back(r.at("verdict"));
+      const std::string name = method_label(r);
+      auto series = std::find_if(per_method.begin(), per_method.end(), [&](const Series& s) { return s.title == name; });
+      if (series == per_method.end()) {
+        static const char* const kPointTypes[] = {"7", "5", "9", "11", "13"};
+        per_method.push_back({name, std::string("linespoints pt ") + kPointTypes[per_method.size() % 5] + " ps 1.5", {}, {}});
+        series = per_method.end() - 1;
+      }
+      series->points.emplace_back(x, r.contains("final") ? r["final"]["psnr"].get<double>() : 0.0);
+      series->labels.push_back(r.at("verdict"));
     }
     ++x;
   }
   chart.extra += "set xtics (" + tics + ")\n";
-  chart.series = {per_method[0], per_method[1]};
+  chart.series = per_method;
   if (x > 0 && stability.contains("collapse_psnr")) {
     const double line = stability["collapse_psnr"];
     chart.series.push_back({"collapsed at or below (the background alone + margin)", "lines dt 2 lc 'grey'",
@@ -174,6 +189,11 @@ std::vector<std::string> write_charts(const fs::path& out) {
   if (auto results = read_json_if_present(out / "results.json")) add_results_charts(*results, charts);
   if (auto sweep = read_json_if_present(out / "sweep.json")) add_sweep_charts(*sweep, charts);
   if (auto stability = read_json_if_present(out / "stability.json")) add_stability_chart(*stability, charts);
+  // gnuplot refuses a plot of nothing: no empty series (a NeRF on the Gaussians chart), and no
+  // chart without a series (an older file without the figures).
+  for (Chart& c : charts)
+    std::erase_if(c.series, [](const Series& s) { return s.points.empty(); });
+  std::erase_if(charts, [](const Chart& c) { return c.series.empty(); });
   if (charts.empty() || std::system("command -v gnuplot > /dev/null 2>&1") != 0) return {};
 
   const fs::path dir = out / "charts";

@@ -1,8 +1,9 @@
 #pragma once
 // splat-eval's charts, drawn by gnuplot (run as a subprocess on a generated script) as PNG
 // (pngcairo) and SVG, from whichever result files the output folder holds:
-//   results.json   psnr_vs_time, ssim_vs_time, psnr_vs_model_bytes, render_ms_vs_psnr
-//   sweep.json     sweep_psnr_vs_gaussians (and its points on the two charts above)
+//   results.json   psnr_vs_time, ssim_vs_time, psnr_vs_model_bytes, psnr_vs_gaussians,
+//                  render_ms_vs_psnr: a series per method
+//   sweep.json     sweep_psnr_vs_gaussians (and its points on the three charts above)
 //   stability.json stability_psnr
 #include <filesystem>
 #include <string>

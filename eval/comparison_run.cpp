@@ -1,5 +1,6 @@
 #include <tbb/info.h>
 
+#include "eval_methods.hpp"
 #include "eval_modes.hpp"
 #include "method_run.hpp"
 #include "progress_reporter.hpp"
@@ -11,37 +12,34 @@ namespace splat::cli {
 
 void run_comparison(const EvalCommandOptions& options, const Dataset& dataset) {
   namespace fs = std::filesystem;
+  const std::vector<std::string> methods = methods_to_run(options);
   const double score_every = options.eval_every.value_or(options.max_seconds / 10);
-  EvalProgress progress(options.quiet, 2, options.max_seconds, int(options.max_seconds / score_every) + 1);
+  EvalProgress progress(options.quiet, int(methods.size()), options.max_seconds,
+                        int(options.max_seconds / score_every) + 1);
   progress.message("comparison on " + options.data.string() + " (" + std::to_string(dataset.train.size()) +
                    " train, " + std::to_string(dataset.test.size()) + " test views), budget " +
                    format_duration(options.max_seconds) + " per method");
   std::vector<MethodRun> runs;
-  const char* methods[] = {"splat", "nerf"};
-  for (int i = 0; i < 2; ++i) {
-    progress.start_run(i, methods[i]);
-    MethodRunRequest request;
-    request.method = methods[i];
-    request.splat_config = options.splat_config;
-    request.nerf_config = options.nerf_config;
-    request.budget_seconds = options.max_seconds;
+  for (std::size_t i = 0; i < methods.size(); ++i) {
+    const std::string& method = methods[i];
+    progress.start_run(int(i), method);
+    MethodRunRequest request = method_request(options, method, options.out / method);
     request.score_every = score_every;
-    request.out_root = options.out;
-    request.out_dir = options.out / methods[i];
     request.render_test_views = true;
     runs.push_back(run_method(request, dataset, progress));
     if (runs.back().diverged)
-      throw Error(std::string(methods[i]) + " training diverged at iteration " +
-                  runs.back().json["diverged"]["iteration"].dump() + " (non-finite " +
-                  runs.back().json["diverged"]["group"].get<std::string>() +
+      throw Error(method + " training diverged at iteration " + runs.back().json["diverged"]["iteration"].dump() +
+                  " (non-finite " + runs.back().json["diverged"]["group"].get<std::string>() +
                   "); splat-eval --stability records divergence instead of stopping");
   }
 
   progress.message("writing comparison grids");
   fs::create_directories(options.out / "grids");
-  for (std::size_t v = 0; v < dataset.test.size(); ++v)
-    write_png(comparison_grid(dataset.test[v].image, runs[0].renders[v], runs[1].renders[v]),
-              options.out / "grids" / (dataset.test[v].name + ".png"));
+  for (std::size_t v = 0; v < dataset.test.size(); ++v) {
+    std::vector<const Image*> renders;
+    for (const MethodRun& run : runs) renders.push_back(&run.renders[v]);
+    write_png(comparison_grid(dataset.test[v].image, renders), options.out / "grids" / (dataset.test[v].name + ".png"));
+  }
 
   nlohmann::json j;
   j["data"] = options.data.string();
@@ -51,7 +49,10 @@ void run_comparison(const EvalCommandOptions& options, const Dataset& dataset) {
   j["test_views"] = dataset.test.size();
   j["width"] = dataset.test.front().image.width;
   j["height"] = dataset.test.front().image.height;
-  j["grid"] = {{"panels", {"ground truth", "splat", "nerf", "splat error", "nerf error"}},
+  nlohmann::json panels = {"ground truth"};
+  for (const std::string& method : methods) panels.push_back(method);
+  for (const std::string& method : methods) panels.push_back(method + " error");
+  j["grid"] = {{"panels", panels},
                {"error_map", "grey = min(1, " + std::to_string(int(kErrorMapGain)) +
                                  " * mean over RGB of |render - truth|)"}};
   j["grids"] = nlohmann::json::array();

@@ -4,6 +4,7 @@
 
 #include "charts.hpp"
 #include "common/thread_limit.hpp"
+#include "eval_methods.hpp"
 #include "eval_modes.hpp"
 #include "report.hpp"
 #include "splat/core/error.hpp"
@@ -16,6 +17,7 @@ int run_eval_command(const EvalCommandOptions& options) {
   if (options.eval_every && *options.eval_every <= 0) throw ArgumentError("--eval-every-seconds must be > 0");
   if (options.mode == EvalMode::kGaussianSweep && options.sweep_gaussians.empty())
     throw ArgumentError("--sweep-gaussians needs at least one budget");
+  methods_to_run(options);  // ArgumentError for a list the mode cannot run
   const auto thread_limit = limit_threads(options.threads);
   // Load before touching --out, so bad input leaves nothing behind.
   const Dataset dataset = load_dataset(options.data, options.dataset);

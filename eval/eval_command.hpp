@@ -1,15 +1,16 @@
 #pragma once
 // splat-eval's work on one dataset, as one of three runs (eval_modes.hpp): the comparison of
-// both methods under the same wall-clock budget and threads (DESIGN.md contract), the
-// stability conditions, or a sweep of Gaussian budgets. Each ends by redrawing the charts
-// and report.html from every result file in --out.
+// the methods (eval_methods.hpp) under the same training-time budget and threads (DESIGN.md
+// contract), the stability conditions, or a sweep of Gaussian budgets. Each ends by redrawing
+// the charts and report.html from every result file in --out.
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "splat/data/dataset.hpp"
 #include "splat/train/nerf_trainer.hpp"
-#include "splat/train/training_config.hpp"
 
 namespace splat::cli {
 
@@ -22,10 +23,12 @@ enum class EvalMode { kComparison, kStability, kGaussianSweep };
 struct EvalCommandOptions {
   EvalMode mode = EvalMode::kComparison;
   std::filesystem::path data, out;
-  double max_seconds = 600;          // training budget per run, wall clock
+  std::vector<std::string> methods;  // --methods, in run order; empty: the mode's default
+  double max_seconds = 600;          // training budget per run (scoring not counted)
   std::optional<double> eval_every;  // seconds of training time between test scores; default max/10
   int threads = 0;                   // 0 = all cores
-  SplatTrainingConfig splat_config;
+  // --splat-config's settings (no "strategy"), applied over each splat method's preset.
+  nlohmann::json splat_settings = nlohmann::json::object();
   NerfTrainingConfig nerf_config;
   DatasetOptions dataset;
   bool quiet = false;

@@ -6,14 +6,16 @@
 
 namespace splat::cli {
 
-// Both methods, same budget, scored over time: results.json, splat/, nerf/, grids/.
+// The methods (--methods, default all three), same budget, scored over time: results.json,
+// one folder per method (splat/, splat-official/, nerf/), grids/.
 void run_comparison(const EvalCommandOptions& options, const Dataset& dataset);
 
-// Both methods under each stability condition, scored at the end: stability.json and
-// stability/<condition>/<method>/<model>.
+// The methods (--methods, default splat and nerf) under each stability condition, scored at
+// the end: stability.json and stability/<condition>/<method>/<model>.
 void run_stability(const EvalCommandOptions& options, const Dataset& dataset);
 
-// The splat method under each Gaussian budget: sweep.json and sweep/<budget>/model.ply.
+// One splat method (splat unless --methods says splat-official) under each Gaussian budget:
+// sweep.json and sweep/<budget>/model.ply.
 void run_gaussian_sweep(const EvalCommandOptions& options, const Dataset& dataset);
 
 }  // namespace splat::cli

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <tbb/info.h>
 
+#include "eval_methods.hpp"
 #include "eval_modes.hpp"
 #include "method_run.hpp"
 #include "progress_reporter.hpp"
@@ -9,20 +10,16 @@ namespace splat::cli {
 
 void run_gaussian_sweep(const EvalCommandOptions& options, const Dataset& dataset) {
   const std::vector<std::size_t>& budgets = options.sweep_gaussians;
+  const std::string method = methods_to_run(options).front();  // one splat method
   EvalProgress progress(options.quiet, int(budgets.size()), options.max_seconds, 1);
   progress.message("Gaussian budget sweep on " + options.data.string() + ": " + std::to_string(budgets.size()) +
-                   " splat runs of " + format_duration(options.max_seconds));
+                   " " + method + " runs of " + format_duration(options.max_seconds));
   nlohmann::json runs = nlohmann::json::array();
   for (std::size_t i = 0; i < budgets.size(); ++i) {
     const std::string label = "max " + std::to_string(budgets[i]) + " Gaussians";
     progress.start_run(int(i), label);
-    MethodRunRequest request;
-    request.method = "splat";
-    request.splat_config = options.splat_config;
+    MethodRunRequest request = method_request(options, method, options.out / "sweep" / std::to_string(budgets[i]));
     request.splat_config.density.max_gaussians = budgets[i];
-    request.budget_seconds = options.max_seconds;
-    request.out_root = options.out;
-    request.out_dir = options.out / "sweep" / std::to_string(budgets[i]);
     request.render_test_views = true;  // for the render time; the images are kept too
     MethodRun run = run_method(request, dataset, progress);
     run.json.erase("config");
@@ -43,6 +40,8 @@ void run_gaussian_sweep(const EvalCommandOptions& options, const Dataset& datase
 
   nlohmann::json j;
   j["data"] = options.data.string();
+  j["method"] = method;
+  j["strategy"] = *splat_strategy(method);
   j["budget_seconds"] = options.max_seconds;
   j["threads"] = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   j["runs"] = runs;

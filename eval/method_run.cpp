@@ -5,10 +5,12 @@
 #include <cstdio>
 #include <memory>
 
+#include "eval_methods.hpp"
 #include "progress_reporter.hpp"
 #include "splat/core/error.hpp"
 #include "splat/data/image_io.hpp"
 #include "trainer_adapter.hpp"
+#include "training_loop.hpp"
 
 namespace splat::cli {
 
@@ -37,62 +39,71 @@ std::uintmax_t model_file_bytes(const TrainerAdapter& trainer, const fs::path& d
   return bytes;
 }
 
+// splat-eval's side of the training loop: progress, and at each score a history entry with
+// the model's exact size.
+class MethodObserver final : public TrainingObserver {
+ public:
+  MethodObserver(const TrainerAdapter& trainer, const fs::path& dir, EvalProgress& progress)
+      : trainer_(trainer), dir_(dir), progress_(progress) {}
+  void on_step(const StepResult&, const LoopState& state) override {
+    progress_.report("training", state.train_seconds, state.iteration);
+  }
+  void on_score_start(const LoopState& state) override {
+    progress_.report("scoring", state.train_seconds, state.iteration, true);
+  }
+  void on_score(const Evaluation& e, double evaluate_seconds, const LoopState& state) override {
+    const auto measure_start = Clock::now();
+    history.push_back({{"seconds", state.train_seconds}, {"iteration", state.iteration},
+                       {"test_psnr", e.psnr}, {"test_ssim", e.ssim},
+                       {"num_gaussians", trainer_.num_gaussians()},
+                       {"model_bytes", model_file_bytes(trainer_, dir_)}});
+    // The ETA's time per score: the evaluation and the size probe (a whole model file).
+    progress_.score_done(evaluate_seconds + seconds_since(measure_start));
+  }
+  nlohmann::json history = nlohmann::json::array();
+
+ private:
+  const TrainerAdapter& trainer_;
+  const fs::path& dir_;
+  EvalProgress& progress_;
+};
+
 }  // namespace
 
 MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, EvalProgress& progress) {
+  const std::optional<std::string> strategy = splat_strategy(request.method);
   TrainCommandOptions train_options;
-  train_options.method = request.method;
+  train_options.method = strategy ? "splat" : "nerf";
   train_options.config = request.splat_config;
   train_options.nerf_config = request.nerf_config;
   std::unique_ptr<TrainerAdapter> trainer = make_trainer(train_options, dataset);
-  const int max_iterations = trainer->schedule().iterations;
-  const double budget = request.budget_seconds;
   fs::create_directories(request.out_dir);
 
   MethodRun run;
   nlohmann::json& j = run.json;
   j["method"] = request.method;
-  nlohmann::json history = nlohmann::json::array();
-  double eval_seconds = 0;
-  const auto start = Clock::now();
-  auto train_seconds = [&] { return seconds_since(start) - eval_seconds; };
-  auto score = [&] {
-    progress.report("scoring", train_seconds(), trainer->iteration(), true);
-    const auto eval_start = Clock::now();
-    const double seconds = train_seconds();
-    const Evaluation e = trainer->evaluate(dataset.test, nullptr);
-    history.push_back({{"seconds", seconds}, {"iteration", trainer->iteration()},
-                       {"test_psnr", e.psnr}, {"test_ssim", e.ssim},
-                       {"num_gaussians", trainer->num_gaussians()},
-                       {"model_bytes", model_file_bytes(*trainer, request.out_dir)}});
-    const double spent = seconds_since(eval_start);
-    eval_seconds += spent;
-    progress.score_done(spent);
-  };
-
-  double next_score = request.score_every.value_or(budget + 1);
+  if (strategy) j["strategy"] = request.splat_config.strategy;  // what ran: the config's
+  MethodObserver observer(*trainer, request.out_dir, progress);
+  TrainingLoopOptions loop;
+  loop.iterations = trainer->schedule().iterations;
+  loop.max_seconds = request.budget_seconds;
+  loop.budget_clock = BudgetClock::kTraining;  // scoring does not eat into the budget
+  loop.score_every_seconds = request.score_every.value_or(0);
+  loop.score_at_end = true;  // the final scores are the last history entry's
+  loop.score_views = &dataset.test;
   progress.report("training", 0, 0, true);
-  try {
-    while (trainer->iteration() < max_iterations && train_seconds() < budget) {
-      if (request.score_every && train_seconds() >= next_score) {
-        score();
-        while (next_score <= train_seconds()) next_score += *request.score_every;
-      }
-      trainer->step();
-      progress.report("training", train_seconds(), trainer->iteration());
-    }
-    trainer->check_parameters_finite();
-  } catch (const TrainingDiverged& diverged) {
+  const TrainingLoopResult result = run_training_loop(*trainer, loop, observer);
+  const nlohmann::json& history = observer.history;
+  if (result.diverged) {
     run.diverged = true;
     j["history"] = history;
-    j["diverged"] = {{"iteration", diverged.iteration()}, {"group", diverged.group()}};
-    j["train_seconds"] = train_seconds();
-    j["iterations"] = diverged.iteration();
-    progress.message("[" + request.method + "] " + diverged.what());
+    j["diverged"] = {{"iteration", result.diverged->iteration}, {"group", result.diverged->group}};
+    j["train_seconds"] = result.train_seconds;
+    j["iterations"] = result.diverged->iteration;
+    progress.message("[" + request.method + "] " + result.diverged->message);
     return run;
   }
-  const double trained_seconds = train_seconds();
-  if (history.empty() || history.back()["iteration"] != trainer->iteration()) score();
+  const double trained_seconds = result.train_seconds;
 
   // One view at a time so each is timed alone: the render only, not the scoring. The final
   // scores are the last history entry's: the same model, the same images.
@@ -113,14 +124,14 @@ MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, Ev
   const double final_psnr = history.back()["test_psnr"], final_ssim = history.back()["test_ssim"];
   j["history"] = history;
   j["final"] = {{"psnr", final_psnr}, {"ssim", final_ssim}, {"views", dataset.test.size()}};
-  if (request.method == "splat") j["num_gaussians"] = trainer->num_gaussians();
+  if (strategy) j["num_gaussians"] = trainer->num_gaussians();
   j["num_params"] = trainer->num_params();
   j["model_bytes"] = fs::file_size(model_file);
   j["model_file"] = fs::relative(model_file, request.out_root).generic_string();
   j["iterations"] = trainer->iteration();
   j["train_seconds"] = trained_seconds;
-  j["eval_seconds"] = eval_seconds;
-  j["stopped_by"] = trainer->iteration() >= max_iterations ? "iterations" : "time";
+  j["eval_seconds"] = result.score_seconds;
+  j["stopped_by"] = stop_reason_name(result.stopped_by);
   if (request.render_test_views) j["render_ms_per_view_median"] = median(render_ms);
   j["config"] = trainer->config_json();
   char line[200];

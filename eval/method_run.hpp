@@ -1,6 +1,6 @@
 #pragma once
-// One training run inside splat-eval: a method trained on a dataset for a wall-clock budget
-// (training time = wall time minus scoring time), scored on the test views every
+// One training run inside splat-eval: a method trained on a dataset for a budget of training
+// time (wall time minus scoring time), scored on the test views every
 // `score_every` seconds of training and at the end, its model written and measured.
 // Comparison, stability and sweep runs are all made of these.
 #include <filesystem>
@@ -19,7 +19,7 @@
 namespace splat::cli {
 
 struct MethodRunRequest {
-  std::string method;  // "splat" | "nerf"
+  std::string method;  // "splat" | "splat-official" | "nerf" (eval_methods.hpp)
   SplatTrainingConfig splat_config;
   NerfTrainingConfig nerf_config;
   double budget_seconds = 600;
@@ -30,8 +30,9 @@ struct MethodRunRequest {
 };
 
 struct MethodRun {
-  // method, history [{seconds, iteration, test_psnr, test_ssim, num_gaussians, model_bytes}],
-  // final {psnr, ssim, views}, num_gaussians (splat), num_params, model_bytes, model_file
+  // method, strategy (splat methods), history [{seconds, iteration, test_psnr, test_ssim,
+  // num_gaussians, model_bytes}], final {psnr, ssim, views}, num_gaussians (splat methods),
+  // num_params, model_bytes, model_file
   // (relative to out_root), iterations, train_seconds, eval_seconds, stopped_by,
   // render_ms_per_view_median (with renders), config; or, when training diverged,
   // diverged {iteration, group} and no final scores or model.

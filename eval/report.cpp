@@ -45,8 +45,6 @@ std::string seconds(const json& value) {
 
 std::string megabytes(const json& bytes) { return fixed(bytes.get<double>() / 1e6, 2); }
 
-std::string method_name(const json& m) { return m.at("method") == "nerf" ? "NeRF" : "splat"; }
-
 std::string model_size(const json& m) {
   return m.contains("num_gaussians") ? std::to_string(m["num_gaussians"].get<long>()) + " Gaussians"
                                      : std::to_string(m.at("num_params").get<long>()) + " parameters";
@@ -61,7 +59,7 @@ void chart(std::ostream& html, const fs::path& out, const std::string& name) {
 }
 
 void comparison_section(std::ostream& html, const fs::path& out, const json& r) {
-  html << "<h2>Splat against NeRF, same budget</h2>\n<p>Dataset <code>" << escaped(r.at("data"))
+  html << "<h2>The methods under one budget</h2>\n<p>Dataset <code>" << escaped(r.at("data"))
        << "</code>: " << r.at("test_views") << " test views at " << r.at("width") << "&times;" << r.at("height")
        << "; each method trained for " << seconds(r.at("budget_seconds")) << " s of wall-clock time on "
        << r.at("threads") << " threads, scored every " << fixed(r.at("eval_every_seconds"), 1)
@@ -70,17 +68,19 @@ void comparison_section(std::ostream& html, const fs::path& out, const json& r) 
           "<th>training (s)</th><th>model</th><th>model file (MB)</th><th>render per view (ms, median)</th>"
           "<th>stopped by</th></tr>\n";
   for (const json& m : r.at("methods")) {
-    html << "<tr><td>" << method_name(m) << "</td><td>" << fixed(m["final"]["psnr"], 2) << "</td><td>"
+    html << "<tr><td>" << escaped(method_label(m)) << "</td><td>" << fixed(m["final"]["psnr"], 2) << "</td><td>"
          << fixed(m["final"]["ssim"], 4) << "</td><td>" << m["iterations"] << "</td><td>"
          << fixed(m["train_seconds"], 1) << "</td><td>" << model_size(m) << "</td><td>"
          << megabytes(m["model_bytes"]) << "</td><td>" << fixed(m["render_ms_per_view_median"], 1) << "</td><td>"
          << escaped(m["stopped_by"]) << "</td></tr>\n";
   }
   html << "</table>\n";
-  for (const char* name : {"psnr_vs_time", "ssim_vs_time", "psnr_vs_model_bytes", "render_ms_vs_psnr"})
+  for (const char* name : {"psnr_vs_time", "ssim_vs_time", "psnr_vs_model_bytes", "psnr_vs_gaussians", "render_ms_vs_psnr"})
     chart(html, out, name);
-  html << "<h3>Test views</h3>\n<p>Each row: ground truth | splat | NeRF | splat error | NeRF error; "
-       << escaped(r["grid"]["error_map"]) << ".</p>\n";
+  std::string panels;
+  for (const json& panel : r["grid"].at("panels")) panels += (panels.empty() ? "" : " | ") + panel.get<std::string>();
+  html << "<h3>Test views</h3>\n<p>Each row: " << escaped(panels) << "; " << escaped(r["grid"]["error_map"])
+       << ".</p>\n";
   // The grids results.json names; a folder from before it named them: what grids/ holds.
   std::vector<std::string> grids;
   for (const json& grid : r.value("grids", json::array())) grids.push_back(grid);
@@ -98,7 +98,7 @@ void comparison_section(std::ostream& html, const fs::path& out, const json& r) 
 
 void sweep_section(std::ostream& html, const fs::path& out, const json& s) {
   const long smallest = s.contains("smallest_within") ? s["smallest_within"].get<long>() : -1;
-  html << "<h2>Model no larger than the scene needs: Gaussian budgets</h2>\n<p>The splat method trained "
+  html << "<h2>Model no larger than the scene needs: Gaussian budgets</h2>\n<p>" << escaped(method_label(s)) << " trained "
        << seconds(s.at("budget_seconds")) << " s under each budget (<code>--max-gaussians</code>). Best test PSNR "
        << fixed(s.at("best_psnr"), 2) << " dB; <strong>marked</strong>: the smallest model within "
        << s.at("within_db") << " dB of it.</p>\n";
@@ -127,12 +127,20 @@ void stability_section(std::ostream& html, const fs::path& out, const json& s) {
        << " s and was scored on the unchanged test views. Verdicts:</p>\n<ul>\n";
   for (const char* verdict : {"diverged", "collapsed", "degraded", "ok"})
     html << "<li><b>" << verdict << "</b>: " << escaped(s["rules"][verdict]) << "</li>\n";
-  html << "</ul>\n<table><tr><th>condition</th><th>training views</th><th>splat PSNR (dB)</th><th>splat verdict</th>"
-          "<th>splat model (MB)</th><th>NeRF PSNR (dB)</th><th>NeRF verdict</th></tr>\n";
+  // The columns: the methods of the first condition that ran (every condition runs the same).
+  std::vector<std::string> methods;
+  for (const json& c : s.at("conditions"))
+    if (methods.empty() && c.contains("runs"))
+      for (const json& r : c["runs"]) methods.push_back(method_label(r));
+  html << "</ul>\n<table><tr><th>condition</th><th>training views</th>";
+  for (const std::string& m : methods)
+    html << "<th>" << escaped(m) << " PSNR (dB)</th><th>" << escaped(m) << " verdict</th><th>" << escaped(m)
+         << " model (MB)</th>";
+  html << "</tr>\n";
   for (const json& c : s.at("conditions")) {
     html << "<tr><td>" << escaped(c["name"]) << "</td>";
     if (c.contains("skipped")) {
-      html << "<td colspan=\"6\">not run: " << escaped(c["skipped"]) << "</td></tr>\n";
+      html << "<td colspan=\"" << 1 + 3 * methods.size() << "\">not run: " << escaped(c["skipped"]) << "</td></tr>\n";
       continue;
     }
     html << "<td>" << c["train_views"] << "</td>";
@@ -142,8 +150,8 @@ void stability_section(std::ostream& html, const fs::path& out, const json& s) {
                                     ? "diverged at iteration " + r["diverged"]["iteration"].dump()
                                     : verdict;
       html << "<td>" << (r.contains("final") ? fixed(r["final"]["psnr"], 2) : "&ndash;") << "</td><td class=\""
-           << verdict << "\">" << escaped(shown) << "</td>";
-      if (r["method"] == "splat") html << "<td>" << (r.contains("model_bytes") ? megabytes(r["model_bytes"]) : "&ndash;") << "</td>";
+           << verdict << "\">" << escaped(shown) << "</td><td>"
+           << (r.contains("model_bytes") ? megabytes(r["model_bytes"]) : "&ndash;") << "</td>";
     }
     html << "</tr>\n";
   }

@@ -25,4 +25,11 @@ std::optional<nlohmann::json> read_json_if_present(const std::filesystem::path& 
   }
 }
 
+std::string method_label(const nlohmann::json& run) {
+  const std::string method = run.value("method", "splat");
+  if (method == "nerf") return "NeRF";
+  if (run.contains("strategy")) return "splat (" + run["strategy"].get<std::string>() + ")";
+  return method;
+}
+
 }  // namespace splat::cli

@@ -2,6 +2,7 @@
 #include <functional>
 #include <tbb/info.h>
 
+#include "eval_methods.hpp"
 #include "eval_modes.hpp"
 #include "method_run.hpp"
 #include "progress_reporter.hpp"
@@ -42,7 +43,8 @@ std::vector<Condition> conditions_for(const EvalCommandOptions& options, const D
     list.push_back({format("pose_noise_%gdeg_%gpct", level.rotation_deg, 100 * level.translation_fraction),
                     format("poses %g° / %g%%", level.rotation_deg, 100 * level.translation_fraction),
                     "pose noise", "",
-                    [&dataset, level, seed = options.splat_config.seed] {
+                    // The seed of the splat settings (the presets share it), whichever methods run.
+                    [&dataset, level, seed = method_request(options, "splat", {}).splat_config.seed] {
                       return with_pose_noise(dataset, level.rotation_deg, level.translation_fraction, seed + 1);
                     }});
   }
@@ -58,18 +60,20 @@ std::vector<Condition> conditions_for(const EvalCommandOptions& options, const D
 }  // namespace
 
 void run_stability(const EvalCommandOptions& options, const Dataset& dataset) {
+  const std::vector<std::string> methods = methods_to_run(options);
   const std::vector<Condition> conditions = conditions_for(options, dataset);
   int runnable = 0;
   for (const Condition& c : conditions) runnable += c.skipped.empty() ? 1 : 0;
-  EvalProgress progress(options.quiet, 2 * runnable, options.max_seconds, 1);
-  progress.message("stability on " + options.data.string() + ": " + std::to_string(runnable) +
-                   " conditions, both methods, " + format_duration(options.max_seconds) + " each");
+  EvalProgress progress(options.quiet, int(methods.size()) * runnable, options.max_seconds, 1);
+  std::string method_list;
+  for (const std::string& method : methods) method_list += (method_list.empty() ? "" : ", ") + method;
+  progress.message("stability on " + options.data.string() + ": " + std::to_string(runnable) + " conditions, " +
+                   method_list + ", " + format_duration(options.max_seconds) + " each");
 
   const VerdictRules rules;
   const double background_psnr = background_only_psnr(dataset.test, options.dataset.background);
   nlohmann::json table = nlohmann::json::array();
-  std::optional<double> baseline_psnr[2];
-  const char* methods[] = {"splat", "nerf"};
+  std::vector<std::optional<double>> baseline_psnr(methods.size());  // [method]
   int run_index = 0;
   for (const Condition& condition : conditions) {
     nlohmann::json entry = {{"id", condition.id}, {"name", condition.name}, {"kind", condition.kind}};
@@ -82,16 +86,10 @@ void run_stability(const EvalCommandOptions& options, const Dataset& dataset) {
     const Dataset changed = condition.make();
     entry["train_views"] = changed.train.size();
     entry["runs"] = nlohmann::json::array();
-    for (int m = 0; m < 2; ++m) {
+    for (std::size_t m = 0; m < methods.size(); ++m) {
       progress.start_run(run_index++, condition.name + " / " + methods[m]);
-      MethodRunRequest request;
-      request.method = methods[m];
-      request.splat_config = options.splat_config;
-      request.nerf_config = options.nerf_config;
-      request.budget_seconds = options.max_seconds;
-      request.out_root = options.out;
-      request.out_dir = options.out / "stability" / condition.id / methods[m];
-      MethodRun run = run_method(request, changed, progress);
+      MethodRun run = run_method(method_request(options, methods[m], options.out / "stability" / condition.id / methods[m]),
+                                 changed, progress);
       nlohmann::json& r = run.json;
       r.erase("config");
       const double psnr = run.diverged ? 0.0 : r["final"]["psnr"].get<double>();

@@ -1,7 +1,6 @@
 #include "train_command.hpp"
 
 #include <atomic>
-#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <fstream>
@@ -18,13 +17,13 @@
 #include "splat/gaussians/ply_io.hpp"
 #include "splat/train/splat_trainer.hpp"
 #include "trainer_adapter.hpp"
+#include "training_loop.hpp"
 
 namespace splat::cli {
 
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
 constexpr const char* kCheckpointName = "checkpoint.ckpt";
 constexpr int kHistoryInterval = 100;  // iterations per history entry
@@ -74,16 +73,18 @@ nlohmann::json timings_json(const IterationTimings& t, int count) {
           {"total", (t.forward + t.loss + t.backward + t.optimizer + t.densify) / n}};
 }
 
-class TrainingRun {
+// splat-train's side of the training loop: the history, checkpoints and progress bar.
+class TrainingRun final : public TrainingObserver {
  public:
   TrainingRun(const TrainCommandOptions& options, const Dataset& dataset)
       : options_(options), dataset_(dataset), trainer_(make_trainer(options, dataset)),
         schedule_(trainer_->schedule()), progress_(isatty(STDOUT_FILENO) && !options.quiet) {}
 
   int run();
+  void on_step(const StepResult& step, const LoopState& state) override;
+  void on_score(const Evaluation& evaluation, double evaluate_seconds, const LoopState& state) override;
 
  private:
-  void evaluate_and_record(double train_seconds, double recent_loss);
   void write_outputs(const std::string& stopped_by, double train_seconds);
   nlohmann::json metrics(const std::string& stopped_by, double train_seconds, std::size_t model_bytes) const;
   std::filesystem::path model_path() const { return options_.out / trainer_->model_file_name(); }
@@ -95,32 +96,61 @@ class TrainingRun {
   ProgressReporter progress_;
   nlohmann::json history_ = nlohmann::json::array();
   std::optional<Evaluation> last_test_;
+  WindowAverages window_;     // since the last history entry
   WindowAverages whole_run_;  // sums over every iteration this process ran
   double resumed_seconds_ = 0;  // training time before this process (when resuming)
-  double final_loss_ = 0;       // loss of the last iteration
+  double last_loss_ = 0;        // loss of the last iteration
 };
 
-// `recent_loss` fills the entry's loss when the test point gets an entry of its own (the
-// contract wants a loss in every history entry): the mean loss since the previous entry.
-void TrainingRun::evaluate_and_record(double train_seconds, double recent_loss) {
-  last_test_ = trainer_->evaluate(dataset_.test, nullptr);
-  if (!history_.empty() && history_.back()["iteration"] == trainer_->iteration()) {
-    history_.back()["test_psnr"] = last_test_->psnr;
-    history_.back()["test_ssim"] = last_test_->ssim;
+void TrainingRun::on_step(const StepResult& step, const LoopState& state) {
+  window_.add(step);
+  whole_run_.add(step);
+  last_loss_ = step.loss;
+  const int it = state.iteration;
+  if (it % kHistoryInterval == 0 || it == schedule_.iterations) {
+    history_.push_back({{"iteration", it}, {"seconds", state.train_seconds},
+                        {"loss", window_.loss / std::max(1, window_.count)},
+                        {"num_gaussians", trainer_->num_gaussians()},
+                        {"ms_per_iteration", timings_json(window_.timings, window_.count)}});
+    window_ = WindowAverages{};
+  }
+  if (schedule_.checkpoint_interval > 0 && it % schedule_.checkpoint_interval == 0)
+    trainer_->save_checkpoint(options_.out / kCheckpointName);
+  if (!options_.quiet) {
+    ProgressSnapshot s;
+    s.iteration = it;
+    s.total_iterations = schedule_.iterations;
+    s.elapsed_seconds = state.wall_seconds;
+    s.max_seconds = schedule_.max_seconds;
+    s.iterations_per_second = state.iterations_per_second();
+    s.loss = step.loss;
+    if (last_test_) s.test_psnr = last_test_->psnr;
+    s.model_size = trainer_->model_size();
+    progress_.update(s);
+  }
+}
+
+// The contract wants a loss in every history entry: when the test point gets an entry of its
+// own, its loss is the mean since the previous entry.
+void TrainingRun::on_score(const Evaluation& evaluation, double, const LoopState& state) {
+  last_test_ = evaluation;
+  if (!history_.empty() && history_.back()["iteration"] == state.iteration) {
+    history_.back()["test_psnr"] = evaluation.psnr;
+    history_.back()["test_ssim"] = evaluation.ssim;
   } else {
-    history_.push_back({{"iteration", trainer_->iteration()}, {"seconds", train_seconds},
+    const double recent_loss = window_.count > 0 ? window_.loss / window_.count : last_loss_;
+    history_.push_back({{"iteration", state.iteration}, {"seconds", state.train_seconds},
                         {"loss", recent_loss}, {"num_gaussians", trainer_->num_gaussians()},
-                        {"test_psnr", last_test_->psnr}, {"test_ssim", last_test_->ssim}});
+                        {"test_psnr", evaluation.psnr}, {"test_ssim", evaluation.ssim}});
   }
   char line[160];
   std::snprintf(line, sizeof(line), "[test] iteration %d: PSNR %.3f dB, SSIM %.4f over %d views (%s)",
-                trainer_->iteration(), last_test_->psnr, last_test_->ssim, last_test_->views,
+                state.iteration, evaluation.psnr, evaluation.ssim, evaluation.views,
                 trainer_->model_size().c_str());
   if (!options_.quiet) progress_.message(line);
 }
 
 int TrainingRun::run() {
-  const RunSchedule& config = schedule_;
   if (options_.resume) {
     const fs::path file = checkpoint_file(*options_.resume);
     trainer_->load_checkpoint(file);
@@ -143,87 +173,39 @@ int TrainingRun::run() {
 
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
-  const auto start = Clock::now();
-  double eval_seconds = 0;  // wall time spent evaluating, not training
-  auto train_seconds = [&] {
-    return resumed_seconds_ + std::chrono::duration<double>(Clock::now() - start).count() - eval_seconds;
-  };
-  auto wall_seconds = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-  WindowAverages window;
-  double last_loss = 0;
-  std::string stopped_by = "iterations";
-  const int first_iteration = trainer_->iteration();
-  try {
-    while (trainer_->iteration() < config.iterations) {
-      if (g_interrupted) {
-        stopped_by = "interrupt";
-        break;
-      }
-      if (config.max_seconds > 0 && wall_seconds() >= config.max_seconds) {
-        stopped_by = "time";
-        break;
-      }
-      // Test point N scores the model before iteration N's densification and opacity reset,
-      // i.e. after N − 1 completed iterations (recorded as such), exactly the parameters the
-      // official trainer's report at iteration N sees. Scored after them instead, fresh
-      // splits and reset opacities would depress every test point that falls on a
-      // densification (all multiples of 100 up to 15,000).
-      const int next = trainer_->iteration() + 1;
-      if (config.test_interval > 0 && next % config.test_interval == 0 && next < config.iterations) {
-        const auto eval_start = Clock::now();
-        evaluate_and_record(train_seconds(), window.count > 0 ? window.loss / window.count : last_loss);
-        eval_seconds += std::chrono::duration<double>(Clock::now() - eval_start).count();
-      }
-      const StepResult r = trainer_->step();
-      window.add(r);
-      whole_run_.add(r);
-      last_loss = r.loss;
-      const int it = trainer_->iteration();
-      if (it % kHistoryInterval == 0 || it == config.iterations) {
-        history_.push_back({{"iteration", it}, {"seconds", train_seconds()},
-                            {"loss", window.loss / std::max(1, window.count)},
-                            {"num_gaussians", trainer_->num_gaussians()},
-                            {"ms_per_iteration", timings_json(window.timings, window.count)}});
-        window = WindowAverages{};
-      }
-      if (config.checkpoint_interval > 0 && it % config.checkpoint_interval == 0)
-        trainer_->save_checkpoint(options_.out / kCheckpointName);
-      if (!options_.quiet) {
-        ProgressSnapshot s;
-        s.iteration = it;
-        s.total_iterations = config.iterations;
-        s.elapsed_seconds = wall_seconds();
-        s.max_seconds = config.max_seconds;
-        s.iterations_per_second = (it - first_iteration) / std::max(1e-9, train_seconds() - resumed_seconds_);
-        s.loss = r.loss;
-        if (last_test_) s.test_psnr = last_test_->psnr;
-        s.model_size = trainer_->model_size();
-        progress_.update(s);
-      }
-    }
-  } catch (const TrainingDiverged& diverged) {
-    progress_.finish();
+  TrainingLoopOptions loop;
+  loop.iterations = schedule_.iterations;
+  loop.max_seconds = schedule_.max_seconds;
+  loop.budget_clock = BudgetClock::kWall;  // --max-seconds: "seconds of wall time"
+  loop.interrupt = &g_interrupted;
+  // Test point N scores the model before iteration N's densification and opacity reset,
+  // i.e. after N − 1 completed iterations (recorded as such), exactly the parameters the
+  // official trainer's report at iteration N sees. Scored after them instead, fresh
+  // splits and reset opacities would depress every test point that falls on a
+  // densification (all multiples of 100 up to 15,000).
+  loop.score_every_iterations = schedule_.test_interval;
+  loop.score_views = &dataset_.test;
+  loop.resumed_seconds = resumed_seconds_;
+  const TrainingLoopResult result = run_training_loop(*trainer_, loop, *this);
+  progress_.finish();
+  if (result.diverged) {
     // Keep what was good: the last parameters that passed the finiteness check.
     trainer_->write_last_good_model(model_path());
-    nlohmann::json m = metrics("diverged", train_seconds(), fs::file_size(model_path()));
-    m["diverged"] = {{"iteration", diverged.iteration()}, {"group", diverged.group()}};
+    nlohmann::json m = metrics("diverged", result.train_seconds, fs::file_size(model_path()));
+    m["diverged"] = {{"iteration", result.diverged->iteration}, {"group", result.diverged->group}};
     write_json(options_.out / "metrics.json", m);
-    throw Error(std::string(diverged.what()) + "; the last good model is in " +
-                model_path().string());
+    throw Error(result.diverged->message + "; the last good model is in " + model_path().string());
   }
-  progress_.finish();
-  final_loss_ = last_loss;
-  const double seconds = train_seconds();
-  if (stopped_by == "interrupt") {
+  const bool interrupted = result.stopped_by == StopReason::kInterrupt;
+  if (interrupted) {
     trainer_->save_checkpoint(options_.out / kCheckpointName);
     if (!options_.quiet)
       progress_.message("interrupted at iteration " + std::to_string(trainer_->iteration()) +
                         ": checkpoint saved to " + (options_.out / kCheckpointName).string() +
                         " (continue with --resume " + options_.out.string() + ")");
   }
-  trainer_->check_parameters_finite();
-  write_outputs(stopped_by, seconds);
-  return stopped_by == "interrupt" ? 130 : 0;
+  write_outputs(stop_reason_name(result.stopped_by), result.train_seconds);
+  return interrupted ? 130 : 0;
 }
 
 nlohmann::json TrainingRun::metrics(const std::string& stopped_by, double train_seconds,
@@ -253,7 +235,7 @@ void TrainingRun::write_outputs(const std::string& stopped_by, double train_seco
   last_test_ = trainer_->evaluate(dataset_.test, &renders);
   if (history_.empty() || history_.back()["iteration"] != trainer_->iteration())
     history_.push_back({{"iteration", trainer_->iteration()}, {"seconds", train_seconds},
-                        {"loss", final_loss_}, {"num_gaussians", trainer_->num_gaussians()}});
+                        {"loss", last_loss_}, {"num_gaussians", trainer_->num_gaussians()}});
   history_.back()["test_psnr"] = last_test_->psnr;
   history_.back()["test_ssim"] = last_test_->ssim;
   fs::create_directories(options_.out / "test");

@@ -46,9 +46,16 @@ Image concatenate_horizontally(const std::vector<const Image*>& panels) {
   return out;
 }
 
-Image comparison_grid(const Image& truth, const Image& a, const Image& b) {
-  const Image error_a = error_map(a, truth), error_b = error_map(b, truth);
-  return concatenate_horizontally({&truth, &a, &b, &error_a, &error_b});
+Image comparison_grid(const Image& truth, const std::vector<const Image*>& renders) {
+  std::vector<Image> errors;
+  errors.reserve(renders.size());  // the panels point into it
+  std::vector<const Image*> panels = {&truth};
+  for (const Image* render : renders) {
+    panels.push_back(render);
+    errors.push_back(error_map(*render, truth));
+  }
+  for (const Image& error : errors) panels.push_back(&error);
+  return concatenate_horizontally(panels);
 }
 
 }  // namespace splat

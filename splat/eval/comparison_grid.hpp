@@ -1,6 +1,6 @@
 #pragma once
-// Side-by-side comparison images for splat-eval: ground truth | method A | method B | error
-// of A | error of B, one row, each panel the size of the ground truth.
+// Side-by-side comparison images for splat-eval: ground truth | each method's render | each
+// method's error, one row, each panel the size of the ground truth.
 #include <vector>
 
 #include "splat/core/image.hpp"
@@ -20,7 +20,7 @@ Image error_map(const Image& a, const Image& b);
 // be RGB and of one size (ArgumentError otherwise).
 Image concatenate_horizontally(const std::vector<const Image*>& panels);
 
-// ground truth | a | b | error_map(a) | error_map(b).
-Image comparison_grid(const Image& truth, const Image& a, const Image& b);
+// ground truth | renders[0] | renders[1] | ... | error_map(renders[0]) | error_map(renders[1]) | ...
+Image comparison_grid(const Image& truth, const std::vector<const Image*>& renders);
 
 }  // namespace splat

@@ -1,5 +1,5 @@
 // splat-eval end to end on a tiny dataset rendered from the built-in demo model, with a
-// budget of a second or two per method and small trainer settings: both methods train, are
+// budget of a second or two per method and small trainer settings: the methods train, are
 // scored over time and rendered, and every output the contract names is there and consistent.
 #include <gtest/gtest.h>
 
@@ -57,7 +57,7 @@ TEST(EvalCli, TrainsBothMethodsAndWritesResultsModelsRendersAndGrids) {
   const fs::path dir = test::scratch_dir("eval_cli_basic");
   const fs::path data = tiny_dataset(dir);
   const auto r = test::run_command(
-      eval_command(dir, data, "--max-seconds 60 --eval-every-seconds 0.5 --threads 2"), dir);
+      eval_command(dir, data, "--methods splat,nerf --max-seconds 60 --eval-every-seconds 0.5 --threads 2"), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   // Progress names the method, the stage and the ETA.
   for (const char* word : {"[splat", "[nerf", "training", "scoring", "rendering", "ETA"})
@@ -123,6 +123,102 @@ TEST(EvalCli, TrainsBothMethodsAndWritesResultsModelsRendersAndGrids) {
       EXPECT_GT(fs::file_size(out / "charts" / (std::string(chart) + ext)), 1000u) << chart << ext;
   EXPECT_EQ(read_image(out / "charts" / "psnr_vs_time.png").width, 900);
   expect_report_files_exist(out, {"charts/psnr_vs_time.png", "charts/render_ms_vs_psnr.png", "grids/view_001.png"});
+}
+
+TEST(EvalCli, MethodsDefaultToBothDensityStrategiesAndTheNerfEachWithItsFolderEntryAndPanels) {
+  const fs::path dir = test::scratch_dir("eval_cli_methods");
+  const fs::path data = tiny_dataset(dir);
+  // A "strategy" in --splat-config is dropped (with a warning): the method names the strategy,
+  // and the file's other settings (the 500 iterations) apply to both splat methods.
+  auto settings = nlohmann::json::parse(test::read_file(dir / "splat.json"));
+  settings["strategy"] = "official";
+  test::write_text(dir / "splat.json", settings.dump());
+  const auto r = test::run_command(eval_command(dir, data, "--max-seconds 60 --eval-every-seconds 0.5"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  EXPECT_NE(r.err.find("warning: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("\"strategy\" ignored"), std::string::npos) << r.err;
+  for (const char* word : {"[splat 1/3]", "[splat-official 2/3]", "[nerf 3/3]"})
+    EXPECT_NE(r.out.find(word), std::string::npos) << word << " not in:\n" << r.out;
+
+  const fs::path out = dir / "out";
+  const auto j = nlohmann::json::parse(test::read_file(out / "results.json"));
+  const auto& methods = j.at("methods");
+  ASSERT_EQ(methods.size(), 3u);
+  const std::string names[] = {"splat", "splat-official", "nerf"};
+  const std::string strategies[] = {"compact", "official", ""};
+  const std::string models[] = {"splat/model.ply", "splat-official/model.ply", "nerf/model.nerf"};
+  for (int i = 0; i < 3; ++i) {
+    const auto& m = methods[i];
+    SCOPED_TRACE(names[i]);
+    EXPECT_EQ(m.at("method"), names[i]);
+    EXPECT_EQ(m.at("model_file"), models[i]);
+    EXPECT_TRUE(fs::exists(out / models[i]));
+    EXPECT_TRUE(fs::exists(out / names[i] / "test" / "view_000.png"));
+    EXPECT_EQ(m.at("stopped_by"), "iterations");
+    if (strategies[i].empty()) {
+      EXPECT_FALSE(m.contains("strategy"));
+      EXPECT_FALSE(m.contains("num_gaussians"));
+      continue;
+    }
+    EXPECT_EQ(m.at("strategy"), strategies[i]);
+    EXPECT_EQ(m.at("config").at("strategy"), strategies[i]);
+    EXPECT_EQ(m.at("iterations").get<int>(), 500);
+    EXPECT_GT(m.at("final").at("psnr").get<double>(), 20.0);
+    for (const auto& h : m.at("history")) EXPECT_GT(h.at("num_gaussians").get<std::size_t>(), 0u) << h.dump();
+  }
+  const std::vector<std::string> panels = {"ground truth", "splat", "splat-official", "nerf",
+                                           "splat error", "splat-official error", "nerf error"};
+  EXPECT_EQ(j.at("grid").at("panels").get<std::vector<std::string>>(), panels);
+  const Image grid = read_image(out / "grids" / "view_001.png");
+  EXPECT_EQ(grid.width, 7 * kSize);
+  EXPECT_EQ(grid.height, kSize);
+  for (const char* chart : {"psnr_vs_time", "psnr_vs_model_bytes", "psnr_vs_gaussians"})
+    EXPECT_GT(fs::file_size(out / "charts" / (std::string(chart) + ".png")), 1000u) << chart;
+  expect_report_files_exist(out, {"charts/psnr_vs_gaussians.png", "grids/view_000.png"});
+  const std::string html = test::read_file(out / "report.html");
+  for (const char* label : {"splat (compact)", "splat (official)", "NeRF", "splat-official error"})
+    EXPECT_NE(html.find(label), std::string::npos) << label;
+
+  // --report on a results.json from before --methods: splat and nerf, no strategies.
+  const fs::path old = dir / "old";
+  fs::create_directories(old);
+  auto before = j;
+  before["methods"] = {methods[0], methods[2]};
+  before["methods"][0].erase("strategy");
+  before["grid"]["panels"] = {"ground truth", "splat", "nerf", "splat error", "nerf error"};
+  before.erase("grids");  // the images stay in the other folder
+  test::write_text(old / "results.json", before.dump());
+  const auto again = test::run_command(std::string(SPLAT_EVAL_EXE) + " --report --quiet --out " + old.string(), dir);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  expect_report_files_exist(old, {"charts/psnr_vs_time.png", "charts/psnr_vs_gaussians.png"});
+}
+
+TEST(EvalCli, StabilityAndSweepRunTheMethodsGiven) {
+  const fs::path dir = test::scratch_dir("eval_cli_methods_modes");
+  const fs::path data = tiny_dataset(dir);
+  auto r = test::run_command(
+      eval_command(dir, data, "--stability --stability-views 4 --methods splat-official --max-seconds 0.3"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const fs::path out = dir / "out";
+  const auto stability = nlohmann::json::parse(test::read_file(out / "stability.json"));
+  for (const auto& c : stability.at("conditions")) {
+    if (c.contains("skipped")) continue;
+    ASSERT_EQ(c.at("runs").size(), 1u) << c.dump();
+    EXPECT_EQ(c.at("runs")[0].at("method"), "splat-official");
+    EXPECT_EQ(c.at("runs")[0].at("strategy"), "official");
+  }
+  EXPECT_NE(test::read_file(out / "report.html").find("splat (official) verdict"), std::string::npos);
+
+  r = test::run_command(eval_command(dir, data, "--sweep-gaussians 1000 --methods splat-official --max-seconds 0.3"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const auto sweep = nlohmann::json::parse(test::read_file(out / "sweep.json"));
+  EXPECT_EQ(sweep.at("method"), "splat-official");
+  EXPECT_EQ(sweep.at("strategy"), "official");
+  EXPECT_EQ(sweep.at("runs")[0].at("strategy"), "official");
+  // Without --methods the sweep trains splat, the compact strategy.
+  r = test::run_command(eval_command(dir, data, "--sweep-gaussians 1000 --max-seconds 0.3 --quiet"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(test::read_file(out / "sweep.json")).at("strategy"), "compact");
 }
 
 TEST(EvalCli, StabilityRunsEveryConditionAndGivesEachRunAVerdict) {
@@ -218,7 +314,9 @@ TEST(EvalCli, RejectsBadOptions) {
   const fs::path dir = test::scratch_dir("eval_cli_options");
   for (const char* bad : {"--max-seconds 0", "--eval-every-seconds -1", "--threads 0", "--bg green",
                           "--sweep-gaussians 10,x", "--sweep-gaussians 0", "--stability-views 8,,16",
-                          "--stability --sweep-gaussians 100"}) {
+                          "--stability --sweep-gaussians 100", "--methods splat,gauss", "--methods splat,,nerf",
+                          "--methods nerf,nerf", "--methods nerf --sweep-gaussians 100",
+                          "--methods splat,splat-official --sweep-gaussians 100"}) {
     const auto r = test::run_command(std::string(SPLAT_EVAL_EXE) + " --data " + dir.string() + " --out " +
                                          (dir / "out").string() + " " + bad,
                                      dir);

@@ -1,0 +1,125 @@
+#include "training_loop.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace splat::cli {
+
+namespace {
+
+double steady_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+class Loop {
+ public:
+  Loop(TrainerAdapter& trainer, const TrainingLoopOptions& options, TrainingObserver& observer)
+      : trainer_(trainer), options_(options), observer_(observer),
+        clock_(options.clock ? options.clock : steady_seconds), start_(clock_()) {
+    state_.first_iteration = trainer.iteration();
+    // The first time point after the resumed time, so a resumed run keeps the grid.
+    if (options.score_every_seconds > 0)
+      next_score_at_ = options.score_every_seconds *
+                       (std::floor(options.resumed_seconds / options.score_every_seconds) + 1);
+  }
+
+  TrainingLoopResult run() {
+    TrainingLoopResult result;
+    try {
+      result.stopped_by = train();
+      result.train_seconds = now().train_seconds;
+      trainer_.check_parameters_finite();  // the groups a step checks only now and then
+    } catch (const TrainingDiverged& diverged) {
+      result.stopped_by = StopReason::kDiverged;
+      result.diverged = Divergence{diverged.iteration(), diverged.group(), diverged.what()};
+      result.train_seconds = now().train_seconds;
+      result.score_seconds = state_.score_seconds;
+      return result;
+    }
+    if (options_.score_at_end && result.stopped_by != StopReason::kInterrupt &&
+        last_scored_ != trainer_.iteration())
+      score();
+    result.score_seconds = state_.score_seconds;
+    return result;
+  }
+
+ private:
+  StopReason train() {
+    for (;;) {
+      const LoopState s = now();
+      if (s.iteration >= options_.iterations) return StopReason::kIterations;
+      if (options_.interrupt && options_.interrupt->load()) return StopReason::kInterrupt;
+      const double spent = options_.budget_clock == BudgetClock::kWall ? s.wall_seconds : s.train_seconds;
+      if (options_.max_seconds > 0 && spent >= options_.max_seconds) return StopReason::kTime;
+      if (score_due(s)) {
+        score();
+        // One score however far behind the grid fell (a slow step, a long score).
+        while (options_.score_every_seconds > 0 && next_score_at_ <= now().train_seconds)
+          next_score_at_ += options_.score_every_seconds;
+      }
+      const StepResult step = trainer_.step();
+      observer_.on_step(step, now());
+    }
+  }
+
+  bool score_due(const LoopState& s) const {
+    const int next = s.iteration + 1;
+    const int every = options_.score_every_iterations;
+    if (every > 0 && next % every == 0 && next < options_.iterations) return true;
+    return options_.score_every_seconds > 0 && s.train_seconds >= next_score_at_;
+  }
+
+  void score() {
+    const LoopState at = now();
+    const double start = clock_();
+    observer_.on_score_start(at);
+    const double evaluate_start = clock_();
+    const Evaluation evaluation = trainer_.evaluate(*options_.score_views, nullptr);
+    observer_.on_score(evaluation, clock_() - evaluate_start, at);
+    state_.score_seconds += clock_() - start;
+    last_scored_ = at.iteration;
+  }
+
+  const LoopState& now() {
+    state_.iteration = trainer_.iteration();
+    state_.wall_seconds = clock_() - start_;
+    state_.train_seconds = options_.resumed_seconds + state_.wall_seconds - state_.score_seconds;
+    return state_;
+  }
+
+  TrainerAdapter& trainer_;
+  const TrainingLoopOptions& options_;
+  TrainingObserver& observer_;
+  std::function<double()> clock_;
+  double start_;
+  LoopState state_;
+  double next_score_at_ = 0;
+  int last_scored_ = -1;
+};
+
+}  // namespace
+
+double LoopState::iterations_per_second() const {
+  return (iteration - first_iteration) / std::max(1e-9, wall_seconds - score_seconds);
+}
+
+const char* stop_reason_name(StopReason reason) {
+  switch (reason) {
+    case StopReason::kIterations: return "iterations";
+    case StopReason::kTime: return "time";
+    case StopReason::kInterrupt: return "interrupt";
+    case StopReason::kDiverged: return "diverged";
+  }
+  return "?";
+}
+
+TrainingLoopResult run_training_loop(TrainerAdapter& trainer, const TrainingLoopOptions& options,
+                                     TrainingObserver& observer) {
+  if (options.score_views == nullptr &&
+      (options.score_every_iterations > 0 || options.score_every_seconds > 0 || options.score_at_end))
+    throw ArgumentError("training loop: scoring is scheduled but no views are given to score");
+  return Loop(trainer, options, observer).run();
+}
+
+}  // namespace splat::cli
