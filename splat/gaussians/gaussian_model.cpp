@@ -113,6 +113,13 @@ void GaussianModel::copy_row(std::size_t row, const GaussianModel& source,
                       });
 }
 
+void GaussianModel::zero_row(std::size_t row) {
+  if (row >= size()) throw ArgumentError("GaussianModel::zero_row: row out of range");
+  for_each_array(*this, [&](std::vector<float>& array, std::size_t width) {
+    std::fill_n(array.begin() + row * width, width, 0.0f);
+  });
+}
+
 void GaussianModel::set_zero() {
   for_each_array(*this, [](std::vector<float>& array, std::size_t) {
     std::fill(array.begin(), array.end(), 0.0f);

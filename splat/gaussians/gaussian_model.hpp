@@ -43,6 +43,8 @@ struct GaussianModel {
   GaussianModel gather_rows(const std::vector<std::size_t>& rows) const;
   // Copies row `source_row` of `source` (same degree) over row `row` of this model.
   void copy_row(std::size_t row, const GaussianModel& source, std::size_t source_row);
+  // Every value of row `row` zero (fresh Adam moments for a moved Gaussian).
+  void zero_row(std::size_t row);
   // Every value zero, size and degree kept.
   void set_zero();
   // Floats per row across all arrays: 3 + 3 + 4 + 1 + 3·K (59 at degree 3).

@@ -18,6 +18,12 @@ struct CompactSettings {
   int grow_interval = 100;
   float grow_grad_threshold = 2e-4f;
   double grow_max_fraction = 0.05;
+  // Instead of cloning and splitting the candidates, add as many copies of live Gaussians
+  // drawn with probability ∝ opacity, reshaped so the image does not change (relocation.hpp).
+  bool grow_by_sampling = false;
+  // At growth steps, move transparent Gaussians onto live ones (drawn ∝ opacity) instead of
+  // pruning them: the count is kept, the dead capacity reused.
+  bool relocate_dead = false;
 
   // Pruning: at every growth step, Gaussians below prune_opacity; at the end of every
   // window of prune_window iterations (0 = one epoch of the training views, at least

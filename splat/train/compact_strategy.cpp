@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include "splat/core/error.hpp"
+#include "splat/optim/relocation.hpp"
 #include "splat/raster/projection_math.hpp"
 
 namespace splat {
@@ -140,28 +141,49 @@ void CompactStrategy::grow(int iteration, TrainingState& state, DensityStepRepor
       select_densify_candidates(model, mean_grad, growth, state.scene_extent);
 
   AlignedRows aligned = rows(state);
-  aligned.append_copies(candidates.clone, model.gather_rows(candidates.clone));
-  std::vector<std::size_t> offspring_sources;
-  const GaussianModel born =
-      split_offspring(model, candidates.split, growth, state.rng, offspring_sources);
-  aligned.append_copies(offspring_sources, born);
+  std::size_t added = 0;
+  std::vector<std::uint8_t> keep(n, 1);
+  if (settings_.grow_by_sampling) {
+    // The candidates say how many; live Gaussians drawn by opacity say where.
+    std::vector<std::uint8_t> alive(n);
+    for (std::size_t i = 0; i < n; ++i)
+      alive[i] = sigmoid(model.opacity_logits[i]) >= settings_.prune_opacity;
+    const std::vector<std::size_t> sources = sample_by_opacity(
+        model, alive, candidates.clone.size() + candidates.split.size(), state.rng);
+    added = add_relocated_copies(aligned, sources, settings_.prune_opacity);
+  } else {
+    aligned.append_copies(candidates.clone, model.gather_rows(candidates.clone));
+    std::vector<std::size_t> offspring_sources;
+    const GaussianModel born =
+        split_offspring(model, candidates.split, growth, state.rng, offspring_sources);
+    aligned.append_copies(offspring_sources, born);
+    added = candidates.clone.size() + offspring_sources.size();
+    for (std::size_t i : candidates.split) keep[i] = 0;
+    report.split += candidates.split.size();
+  }
 
+  // Transparent Gaussians: moved onto live ones, or pruned.
   const std::size_t total = model.size();
-  std::vector<std::uint8_t> keep(total, 1);
-  for (std::size_t i : candidates.split) keep[i] = 0;
-  std::size_t pruned = 0;
+  keep.resize(total, 1);
+  std::vector<std::size_t> dead;
   for (std::size_t i = 0; i < total; ++i)
-    if (keep[i] && sigmoid(model.opacity_logits[i]) < settings_.prune_opacity) {
-      keep[i] = 0;
-      ++pruned;
-    }
+    if (keep[i] && sigmoid(model.opacity_logits[i]) < settings_.prune_opacity) dead.push_back(i);
+  std::size_t pruned = 0;
+  if (settings_.relocate_dead && !dead.empty()) {
+    std::vector<std::uint8_t> alive(keep);
+    for (std::size_t i : dead) alive[i] = 0;
+    const std::vector<std::size_t> sources = sample_by_opacity(model, alive, dead.size(), state.rng);
+    if (sources.size() == dead.size())
+      report.relocated += relocate_rows(aligned, dead, sources, settings_.prune_opacity);
+  } else {
+    for (std::size_t i : dead) keep[i] = 0;
+    pruned = dead.size();
+  }
   aligned.keep(keep);
   reset_stats(model.size());
 
-  const std::size_t added = candidates.clone.size() + offspring_sources.size();
   report.densified = true;
   report.added += added;
-  report.split += candidates.split.size();
   report.pruned += pruned;
   report.over_budget += candidates.over_budget;
   total_added_ += added;

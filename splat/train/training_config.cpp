@@ -53,6 +53,8 @@ void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
   v("compact_grow_interval", k.grow_interval);
   v("compact_grow_grad_threshold", k.grow_grad_threshold);
   v("compact_grow_max_fraction", k.grow_max_fraction);
+  v("compact_grow_by_sampling", k.grow_by_sampling);
+  v("compact_relocate_dead", k.relocate_dead);
   v("compact_prune_opacity", k.prune_opacity);
   v("compact_prune_weight", k.prune_weight);
   v("compact_prune_window", k.prune_window);
