@@ -1,0 +1,200 @@
+// The compact density strategy on hand-made statistics: the Gaussian cap holds, every row
+// keeps its own Adam moments (or fresh ones) through growth, pruning and relocation, invisible
+// Gaussians are pruned at the end of a window, and the resolution warm-up halves on schedule.
+#include "splat/train/compact_strategy.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "test_support.hpp"
+
+namespace splat {
+namespace {
+
+constexpr float kExtent = 1.0f;
+
+float logit(float p) { return std::log(p / (1.0f - p)); }
+
+// A model whose rows carry an identity tag in their last SH coefficient (copied by every row
+// operation, untouched by splits), with Adam moments derived from the tag, so a test can tell
+// whether each row's moments are its own.
+struct Fixture {
+  GaussianModel model;
+  AdamState adam;
+  std::mt19937 rng{3};
+
+  explicit Fixture(std::size_t n) : model(test::random_model(int(n), 1, 7)) {
+    adam.reset_like(model);
+    adam.step = 10;
+    for (std::size_t i = 0; i < n; ++i) {
+      tag(model, i) = float(i + 1);
+      model.opacity_logits[i] = logit(0.2f + 0.6f * float(i) / float(n));
+      for (GaussianModel* moment : {&adam.first_moment, &adam.second_moment})
+        for (float& v : row_values(*moment, i)) v = moment_for(float(i + 1));
+    }
+  }
+  static float& tag(GaussianModel& m, std::size_t i) {
+    const std::size_t width = std::size_t(m.sh_coefficients()) * 3;
+    return m.sh[i * width + width - 1];
+  }
+  static float moment_for(float tag) { return 0.5f + tag; }
+  static std::vector<std::reference_wrapper<float>> row_values(GaussianModel& m, std::size_t i) {
+    std::vector<std::reference_wrapper<float>> out;
+    for (int a = 0; a < 3; ++a) out.push_back(m.means[3 * i + a]);
+    for (int a = 0; a < 3; ++a) out.push_back(m.log_scales[3 * i + a]);
+    for (int a = 0; a < 4; ++a) out.push_back(m.quats[4 * i + a]);
+    out.push_back(m.opacity_logits[i]);
+    return out;
+  }
+  TrainingState state() { return {model, adam, rng, kExtent}; }
+
+  // Every row's moments are zero (new or moved) or those of the row its tag names.
+  void expect_moments_follow_rows() {
+    ASSERT_EQ(adam.first_moment.size(), model.size());
+    ASSERT_EQ(adam.second_moment.size(), model.size());
+    for (std::size_t r = 0; r < model.size(); ++r) {
+      const float expected = moment_for(tag(model, r));
+      for (GaussianModel* moment : {&adam.first_moment, &adam.second_moment})
+        for (float v : row_values(*moment, r))
+          EXPECT_TRUE(v == 0.0f || v == expected) << "row " << r << " holds moment " << v
+                                                  << ", its tag says " << expected;
+    }
+  }
+};
+
+// One iteration's statistics: every Gaussian visible with the given gradient norm and weight.
+struct Stats {
+  std::vector<float> grad, weight;
+  std::vector<std::int32_t> radii;
+  Stats(std::size_t n, float g, float w) : grad(n, g), weight(n, w), radii(n, 5) {}
+  BackwardStats view() const { return {grad, radii, weight, 64, 64}; }
+};
+
+CompactSettings growth_settings() {
+  CompactSettings s;
+  s.grow_from = 0;
+  s.grow_interval = 10;
+  s.grow_max_fraction = 1.0;
+  s.grow_grad_threshold = 1e-3f;
+  return s;
+}
+
+void run_iterations(CompactStrategy& strategy, Fixture& f, int first, int last, float grad,
+                    float weight) {
+  for (int it = first; it <= last; ++it) {
+    GaussianModel grads = f.model;
+    grads.set_zero();
+    TrainingState state = f.state();
+    const Stats stats(f.model.size(), grad, weight);
+    strategy.step_post_backward(it, false, state, grads, stats.view());
+  }
+}
+
+TEST(CompactStrategy, GrowthNeverExceedsTheGaussianCap) {
+  for (bool sampling : {false, true}) {
+    Fixture f(100);
+    CompactSettings s = growth_settings();
+    s.grow_by_sampling = sampling;
+    DensityControlSettings density;
+    density.max_gaussians = 130;
+    CompactStrategy strategy(s, density, 10, 0, f.model.size());
+    for (int it = 1; it <= 50; ++it) {
+      run_iterations(strategy, f, it, it, 1.0f, 100.0f);
+      ASSERT_LE(f.model.size(), 130u) << "iteration " << it << (sampling ? " (sampling)" : "");
+    }
+    EXPECT_GT(f.model.size(), 100u) << "it grew at all";
+  }
+}
+
+TEST(CompactStrategy, GrowthStepsAddAtMostTheirFractionAndOnlyAboveTheThreshold) {
+  Fixture f(200);
+  CompactSettings s = growth_settings();
+  s.grow_max_fraction = 0.1;
+  CompactStrategy strategy(s, {}, 10, 0, f.model.size());
+  run_iterations(strategy, f, 1, 10, 0.5e-3f, 100.0f);  // below the threshold
+  EXPECT_EQ(f.model.size(), 200u);
+  run_iterations(strategy, f, 11, 20, 2e-3f, 100.0f);
+  EXPECT_GT(f.model.size(), 200u);
+  EXPECT_LE(f.model.size(), 220u);
+}
+
+TEST(CompactStrategy, AdamMomentsStayWithTheirRowsThroughGrowthPruningAndRelocation) {
+  for (bool sampling : {false, true})
+    for (bool relocate : {false, true}) {
+      Fixture f(120);
+      // A third of the rows transparent: pruned or relocated at the growth step.
+      for (std::size_t i = 0; i < 120; i += 3) f.model.opacity_logits[i] = logit(0.001f);
+      CompactSettings s = growth_settings();
+      s.grow_by_sampling = sampling;
+      s.relocate_dead = relocate;
+      s.prune_weight = 50.0f;
+      s.prune_window = 10;
+      CompactStrategy strategy(s, {}, 10, 0, f.model.size());
+      run_iterations(strategy, f, 1, 10, 2e-3f, 100.0f);
+      f.expect_moments_follow_rows();
+      const std::size_t after_growth = f.model.size();
+      EXPECT_NE(after_growth, 120u);
+      // A window in which half the rows make almost nothing visible: they are pruned.
+      for (int it = 11; it <= 20; ++it) {
+        GaussianModel grads = f.model;
+        grads.set_zero();
+        TrainingState state = f.state();
+        Stats stats(f.model.size(), 0.0f, 100.0f);
+        for (std::size_t i = 0; i < stats.weight.size(); i += 2) stats.weight[i] = 0.1f;
+        strategy.step_post_backward(it, false, state, grads, stats.view());
+      }
+      EXPECT_EQ(f.model.size(), after_growth - (after_growth + 1) / 2)
+          << "sampling " << sampling << " relocate " << relocate;
+      f.expect_moments_follow_rows();
+    }
+}
+
+TEST(CompactStrategy, TheLastIterationOnlyGathersStatistics) {
+  Fixture f(50);
+  CompactStrategy strategy(growth_settings(), {}, 10, 0, f.model.size());
+  GaussianModel grads = f.model;
+  TrainingState state = f.state();
+  const Stats stats(50, 1.0f, 0.0f);
+  const DensityStepReport report = strategy.step_post_backward(10, true, state, grads, stats.view());
+  EXPECT_FALSE(report.densified);
+  EXPECT_EQ(f.model.size(), 50u);
+}
+
+TEST(CompactStrategy, WarmUpHalvesTheDivisorAtEqualSteps) {
+  CompactSettings s;
+  s.warmup_divisor = 4;
+  s.warmup_until = 1000;
+  const CompactStrategy strategy(s, {}, 10, 0, 0);
+  EXPECT_EQ(strategy.resolution_divisor(1), 4);
+  EXPECT_EQ(strategy.resolution_divisor(500), 4);
+  EXPECT_EQ(strategy.resolution_divisor(501), 2);
+  EXPECT_EQ(strategy.resolution_divisor(1000), 2);
+  EXPECT_EQ(strategy.resolution_divisor(1001), 1);
+  s.warmup_divisor = 1;
+  EXPECT_EQ(CompactStrategy(s, {}, 10, 0, 0).resolution_divisor(1), 1);
+}
+
+TEST(CompactStrategy, RegularisersAddTheirGradients) {
+  Fixture f(10);
+  CompactSettings s;
+  s.opacity_regularization = 0.5f;
+  s.scale_regularization = 0.3f;
+  s.grow_from = 1000;
+  CompactStrategy strategy(s, {}, 10, 0, f.model.size());
+  GaussianModel grads = f.model;
+  grads.set_zero();
+  TrainingState state = f.state();
+  const Stats stats(10, 0.0f, 1.0f);
+  strategy.step_post_backward(1, false, state, grads, stats.view());
+  for (std::size_t i = 0; i < 10; ++i) {
+    const float o = 1.0f / (1.0f + std::exp(-f.model.opacity_logits[i]));
+    EXPECT_NEAR(grads.opacity_logits[i], 0.5f / 10 * o * (1 - o), 1e-7f);
+    EXPECT_NEAR(grads.log_scales[3 * i], 0.3f / 30 * std::exp(f.model.log_scales[3 * i]), 1e-7f);
+  }
+}
+
+}  // namespace
+}  // namespace splat
