@@ -3,6 +3,9 @@
 // resumes exactly, saves on Ctrl-C, stops on divergence naming the group, rejects bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
+
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
@@ -22,9 +25,12 @@ fs::path tiny_dataset() {
     const std::string test_name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
     const fs::path d = test::scratch_dir("train_cli_dataset_" + test_name);
     test::write_demo_dataset(d, 12, 3, 64, 3000);
-    // Small settings so the run takes about a second but still densifies and resets.
+    // Small settings so the run takes about a second but still densifies and resets
+    // (official), or warms up at half size, grows and prunes (compact, the default).
     test::write_text(d / "tiny_config.json", R"({"random_init_points": 4000, "densify_from_iter": 100,
-      "densification_interval": 50, "opacity_reset_interval": 200, "densify_until_iter": 250})");
+      "densification_interval": 50, "opacity_reset_interval": 200, "densify_until_iter": 250,
+      "compact_warmup_until": 60, "compact_grow_from": 100, "compact_grow_interval": 50,
+      "compact_grow_until": 250, "compact_prune_window": 50})");
     return d;
   }();
   return dir;
@@ -89,27 +95,71 @@ TEST(TrainCli, TrainsAndWritesTheContractOutputs) {
 }
 
 TEST(TrainCli, ResultDoesNotDependOnThreadCount) {
-  const fs::path dir = test::scratch_dir("train_cli_threads");
-  for (const char* threads : {"1", "2"}) {
-    const auto r = test::run_command(
-        train_command(dir / threads, std::string("--iters 150 --quiet --threads ") + threads), dir);
-    ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const std::string strategy : {"compact", "official"}) {
+    const fs::path dir = test::scratch_dir("train_cli_threads_" + strategy);
+    for (const char* threads : {"1", "2"}) {
+      const auto r = test::run_command(
+          train_command(dir / threads, "--strategy " + strategy + " --iters 150 --quiet --threads " + threads), dir);
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+    EXPECT_TRUE(test::read_file(dir / "1" / "model.ply") == test::read_file(dir / "2" / "model.ply"))
+        << strategy << ": models trained with 1 and 2 threads differ";
   }
-  EXPECT_TRUE(test::read_file(dir / "1" / "model.ply") == test::read_file(dir / "2" / "model.ply"))
-      << "models trained with 1 and 2 threads differ";
 }
 
 TEST(TrainCli, ResumeContinuesExactly) {
-  const fs::path dir = test::scratch_dir("train_cli_resume");
-  auto r = test::run_command(train_command(dir / "straight", "--iters 240 --quiet"), dir);
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  r = test::run_command(train_command(dir / "split", "--iters 120 --checkpoint-every 120 --quiet"), dir);
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  ASSERT_TRUE(fs::exists(dir / "split" / "checkpoint.ckpt"));
-  r = test::run_command(train_command(dir / "split", "--iters 240 --quiet --resume " + (dir / "split").string()), dir);
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_TRUE(test::read_file(dir / "straight" / "model.ply") == test::read_file(dir / "split" / "model.ply"))
-      << "the resumed run's model differs from the uninterrupted run's";
+  for (const std::string strategy : {"compact", "official"}) {
+    const fs::path dir = test::scratch_dir("train_cli_resume_" + strategy);
+    const std::string s = "--strategy " + strategy + " ";
+    auto r = test::run_command(train_command(dir / "straight", s + "--iters 240 --quiet"), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = test::run_command(train_command(dir / "split", s + "--iters 120 --checkpoint-every 120 --quiet"), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    ASSERT_TRUE(fs::exists(dir / "split" / "checkpoint.ckpt"));
+    r = test::run_command(
+        train_command(dir / "split", s + "--iters 240 --quiet --resume " + (dir / "split").string()), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(test::read_file(dir / "straight" / "model.ply") == test::read_file(dir / "split" / "model.ply"))
+        << strategy << ": the resumed run's model differs from the uninterrupted run's";
+  }
+}
+
+// Both strategies for the same iterations on the tiny scene, their schedules scaled down
+// alike: the compact model is smaller and no worse. Iteration-limited, so machine load
+// cannot change the outcome.
+TEST(TrainCli, CompactEndsSmallerThanOfficialAtEqualOrBetterPsnr) {
+  const fs::path dir = test::scratch_dir("train_cli_compact_vs_official");
+  nlohmann::json metrics[2];
+  const char* strategies[] = {"compact", "official"};
+  for (int i = 0; i < 2; ++i) {
+    const auto r = test::run_command(
+        train_command(dir / strategies[i], std::string("--strategy ") + strategies[i] + " --iters 600 --quiet"), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    metrics[i] = read_json(dir / strategies[i] / "metrics.json");
+    EXPECT_EQ(metrics[i].at("strategy"), strategies[i]);
+    EXPECT_EQ(read_json(dir / strategies[i] / "config.json").at("strategy"), strategies[i]);
+  }
+  const auto count = [](const nlohmann::json& m) { return m.at("num_gaussians").get<std::size_t>(); };
+  const auto psnr = [](const nlohmann::json& m) { return m.at("test").at("psnr").get<double>(); };
+  EXPECT_LT(count(metrics[0]), count(metrics[1]));
+  EXPECT_GE(psnr(metrics[0]), psnr(metrics[1]));
+  std::printf("compact %zu Gaussians %.3f dB, official %zu Gaussians %.3f dB\n", count(metrics[0]),
+              psnr(metrics[0]), count(metrics[1]), psnr(metrics[1]));
+}
+
+// --max-gaussians is a hard cap for both strategies: no history entry ever exceeds it.
+TEST(TrainCli, GaussianCapIsNeverExceeded) {
+  for (const std::string strategy : {"compact", "official"}) {
+    const fs::path dir = test::scratch_dir("train_cli_cap_" + strategy);
+    const auto r = test::run_command(
+        train_command(dir / "out", "--strategy " + strategy + " --iters 300 --max-gaussians 1500 --quiet"), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json m = read_json(dir / "out" / "metrics.json");
+    std::size_t largest = 0;
+    for (const auto& h : m.at("history")) largest = std::max(largest, h.at("num_gaussians").get<std::size_t>());
+    EXPECT_LE(largest, 1500u) << strategy;
+    EXPECT_GT(largest, 1000u) << strategy << ": the cap was meant to bind";
+  }
 }
 
 TEST(TrainCli, InterruptSavesCheckpointAndModel) {
@@ -154,6 +204,7 @@ TEST(TrainCli, BadInputsFailCleanly) {
       {"--data " + (dir / "empty").string() + " --out " + (dir / "o").string(), (dir / "empty").string()},
       {"--data " + tiny_dataset().string() + " --out " + (dir / "o").string() + " --iters 0", "--iters"},
       {"--data " + tiny_dataset().string() + " --out " + (dir / "o").string() + " --bg green", "--bg"},
+      {"--data " + tiny_dataset().string() + " --out " + (dir / "o").string() + " --strategy greedy", "greedy"},
       {"--data " + tiny_dataset().string() + " --out " + (dir / "o").string() + " --resume /nonexistent.ckpt", "/nonexistent.ckpt"},
       {"--out " + (dir / "o").string(), "--data"},
   };
