@@ -56,21 +56,20 @@ struct WindowAverages {
   int count = 0;
   void add(const StepResult& r) {
     loss += r.loss;
-    timings.forward += r.timings.forward;
-    timings.loss += r.timings.loss;
-    timings.backward += r.timings.backward;
-    timings.optimizer += r.timings.optimizer;
-    timings.densify += r.timings.densify;
+    timings += r.timings;
     ++count;
   }
 };
 
+// Mean milliseconds per stage; the rasterizer's parts only where there are any (splats).
 nlohmann::json timings_json(const IterationTimings& t, int count) {
   const double n = std::max(1, count);
-  return {{"forward", t.forward / n},     {"loss", t.loss / n},
-          {"backward", t.backward / n},   {"optimizer", t.optimizer / n},
-          {"densify", t.densify / n},
-          {"total", (t.forward + t.loss + t.backward + t.optimizer + t.densify) / n}};
+  nlohmann::json j;
+  for (const auto& [name, field] : IterationTimings::kFields) j[name] = t.*field / n;
+  if (t.project + t.bin_sort + t.blend + t.blend_backward + t.project_backward == 0)
+    for (const char* part : {"project", "bin_sort", "blend", "blend_backward", "project_backward"}) j.erase(part);
+  j["total"] = t.total() / n;
+  return j;
 }
 
 // splat-train's side of the training loop: the history, checkpoints and progress bar.

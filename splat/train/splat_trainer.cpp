@@ -109,6 +109,9 @@ StepResult SplatTrainer::step() {
   auto start = Clock::now();
   rasterizer_.render(model_, camera, settings, render_);
   result.timings.forward = ms_since(start);
+  result.timings.project = rasterizer_.last_timings().project_ms;
+  result.timings.bin_sort = rasterizer_.last_timings().bin_sort_ms;
+  result.timings.blend = rasterizer_.last_timings().blend_ms;
 
   start = Clock::now();
   const LossValue loss =
@@ -122,6 +125,8 @@ StepResult SplatTrainer::step() {
   start = Clock::now();
   rasterizer_.backward(model_, camera, settings, render_, v_image_, grads_);
   result.timings.backward = ms_since(start);
+  result.timings.blend_backward = rasterizer_.last_timings().blend_backward_ms;
+  result.timings.project_backward = rasterizer_.last_timings().project_backward_ms;
 
   start = Clock::now();
   // The run's last iteration only gathers statistics (see DensityStrategy). Extending a

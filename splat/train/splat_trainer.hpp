@@ -5,6 +5,7 @@
 // command line reports progress.
 #include <filesystem>
 #include <memory>
+#include <utility>
 #include <random>
 #include <string>
 #include <vector>
@@ -36,6 +37,23 @@ class TrainingDiverged : public Error {
 
 struct IterationTimings {  // milliseconds
   double forward = 0, loss = 0, backward = 0, optimizer = 0, densify = 0;
+  // The rasterizer's stages inside forward and backward (splats only; 0 for the NeRF).
+  double project = 0, bin_sort = 0, blend = 0, blend_backward = 0, project_backward = 0;
+
+  // Every figure by name: the five stages, then the rasterizer's parts.
+  static constexpr std::pair<const char*, double IterationTimings::*> kFields[] = {
+      {"forward", &IterationTimings::forward},         {"loss", &IterationTimings::loss},
+      {"backward", &IterationTimings::backward},       {"optimizer", &IterationTimings::optimizer},
+      {"densify", &IterationTimings::densify},         {"project", &IterationTimings::project},
+      {"bin_sort", &IterationTimings::bin_sort},       {"blend", &IterationTimings::blend},
+      {"blend_backward", &IterationTimings::blend_backward},
+      {"project_backward", &IterationTimings::project_backward}};
+
+  double total() const { return forward + loss + backward + optimizer + densify; }
+  IterationTimings& operator+=(const IterationTimings& o) {
+    for (const auto& [name, field] : kFields) this->*field += o.*field;
+    return *this;
+  }
 };
 
 struct StepResult {
