@@ -38,6 +38,7 @@ class DelegatingAdapter : public TrainerAdapter {
 class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingConfig> {
  public:
   using DelegatingAdapter::DelegatingAdapter;
+  void set_time_budget_fraction(double fraction) override { trainer_.set_time_budget_fraction(fraction); }
   std::string method() const override { return "splat"; }
   std::size_t num_gaussians() const override { return trainer_.model().size(); }
   std::size_t num_params() const override {

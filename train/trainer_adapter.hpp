@@ -26,6 +26,8 @@ class TrainerAdapter {
   virtual std::string method() const = 0;         // "splat" | "nerf"
   virtual RunSchedule schedule() const = 0;
   virtual StepResult step() = 0;
+  // The fraction of the time budget spent, before each step of a run that has one.
+  virtual void set_time_budget_fraction(double /*fraction*/) {}
   virtual Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) = 0;
   virtual Image render(const Camera& camera) = 0;  // clamped, as evaluate() scores it
   virtual int iteration() const = 0;

@@ -52,6 +52,7 @@ class Loop {
       if (options_.interrupt && options_.interrupt->load()) return StopReason::kInterrupt;
       const double spent = options_.budget_clock == BudgetClock::kWall ? s.wall_seconds : s.train_seconds;
       if (options_.max_seconds > 0 && spent >= options_.max_seconds) return StopReason::kTime;
+      if (options_.max_seconds > 0) trainer_.set_time_budget_fraction(spent / options_.max_seconds);
       if (score_due(s)) {
         score();
         // One score however far behind the grid fell (a slow step, a long score).

@@ -12,6 +12,9 @@ struct ExponentialLrSchedule {
   int max_steps = 1;
 
   double operator()(int step) const;
+  // The rate at fraction t of the schedule (clamped to [0, 1]): operator()(step) is
+  // at_fraction(step / max_steps) for steps ≥ 0.
+  double at_fraction(double t) const;
 };
 
 // Position learning rate, scaled by the scene extent (spatial_lr_scale): 1.6e-4·extent

@@ -82,6 +82,8 @@ GroupLearningRates SplatTrainer::learning_rates() const {
                                  config_.position_lr_max_steps};
   GroupLearningRates lr;
   lr.means = float(position(iteration_ + 1));  // the official evaluates it at the 1-based iteration
+  if (config_.position_lr_follows_time_budget)
+    lr.means = std::min(lr.means, float(position.at_fraction(time_budget_fraction_)));
   lr.sh_dc = config_.sh_dc_lr;
   lr.sh_rest = config_.sh_rest_lr;
   lr.opacity = config_.opacity_lr;

@@ -93,6 +93,10 @@ class SplatTrainer {
   float scene_extent() const { return scene_extent_; }
   const DensityStrategy& strategy() const { return *strategy_; }
 
+  // The fraction of the run's time budget spent so far (the training loop sets it before
+  // each step when there is a budget); schedules that follow the budget read it.
+  void set_time_budget_fraction(double fraction) { time_budget_fraction_ = fraction; }
+
   // Throws TrainingDiverged naming the first parameter group with a non-finite value.
   void check_parameters_finite() const;
 
@@ -119,6 +123,7 @@ class SplatTrainer {
   std::vector<std::size_t> view_stack_;  // training views not yet used in this epoch
   int iteration_ = 0;
   int active_sh_degree_ = 0;
+  double time_budget_fraction_ = 0;
 
   Rasterizer rasterizer_;
   RenderResult render_;

@@ -21,6 +21,7 @@ void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
   v("position_lr_init", c.position_lr_init);
   v("position_lr_final", c.position_lr_final);
   v("position_lr_max_steps", c.position_lr_max_steps);
+  v("position_lr_follows_time_budget", c.position_lr_follows_time_budget);
   v("sh_dc_lr", c.sh_dc_lr);
   v("sh_rest_lr", c.sh_rest_lr);
   v("opacity_lr", c.opacity_lr);
@@ -78,9 +79,9 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
     // Fewer random starting points: most of a random cloud dies in empty space anyway, and
     // the first iterations over 100,000 large transparent Gaussians are the slowest of a run.
     config.random_init_points = 30000;
-    // The position step decays to its final size by iteration 10,000 (not 30,000): a run
-    // cut short by a time budget is then already refining instead of still moving.
-    config.position_lr_max_steps = 10000;
+    // A run cut short by a time budget ends with the position step decayed, refining
+    // rather than still moving.
+    config.position_lr_follows_time_budget = true;
     CompactSettings& c = config.compact;
     c.warmup_divisor = 2;
     c.warmup_until = 1500;

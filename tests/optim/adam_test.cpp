@@ -209,6 +209,11 @@ TEST(LrSchedule, PositionScheduleDecaysLogLinearly) {
               1e-12 * init);
   EXPECT_EQ(lr(-1), 0.0);
   EXPECT_EQ((ExponentialLrSchedule{0.0, 0.0, 100})(5), 0.0);
+  // A fraction of the schedule (what a time budget's progress reads) is the same curve.
+  EXPECT_EQ(lr.at_fraction(0.25), lr(7500));
+  EXPECT_NEAR(lr.at_fraction(1.0), final_lr, 1e-12 * final_lr);
+  EXPECT_NEAR(lr.at_fraction(3.0), final_lr, 1e-12 * final_lr);
+  EXPECT_NEAR(lr.at_fraction(-1.0), init, 1e-12 * init);
 }
 
 }  // namespace

@@ -22,6 +22,7 @@ class FakeTrainer final : public cli::TrainerAdapter {
   std::optional<int> diverge_at;         // the step that throws TrainingDiverged
   bool nonfinite_after_steps = false;    // what only the final check sees
   std::vector<int> evaluated_at;         // the iteration of each evaluation
+  std::vector<double> budget_fractions;  // what the loop said before each step
 
   StepResult step() override {
     if (diverge_at && iteration_ + 1 == *diverge_at) throw TrainingDiverged(*diverge_at, "means");
@@ -37,6 +38,7 @@ class FakeTrainer final : public cli::TrainerAdapter {
     return e;
   }
   int iteration() const override { return iteration_; }
+  void set_time_budget_fraction(double fraction) override { budget_fractions.push_back(fraction); }
   void check_parameters_finite() const override {
     if (nonfinite_after_steps) throw TrainingDiverged(iteration_, "sh_coefficients");
   }
@@ -119,6 +121,19 @@ TEST_F(TrainingLoop, StopsAtTheTimeBudgetOnceItIsReached) {
   EXPECT_EQ(result.stopped_by, StopReason::kTime);
   EXPECT_EQ(trainer.iteration(), 4);  // 3 s < 3.5 s: one more step, which overruns it
   EXPECT_DOUBLE_EQ(result.train_seconds, 4.0);
+}
+
+TEST_F(TrainingLoop, TellsTheTrainerHowMuchOfItsBudgetIsSpent) {
+  options.iterations = 100;
+  options.max_seconds = 4;
+  options.budget_clock = BudgetClock::kTraining;
+  run();
+  EXPECT_EQ(trainer.budget_fractions, (std::vector<double>{0.0, 0.25, 0.5, 0.75}));
+  FakeTrainer unbudgeted(clock);
+  options.max_seconds = 0;
+  options.iterations = 3;
+  cli::run_training_loop(unbudgeted, options, observer);
+  EXPECT_TRUE(unbudgeted.budget_fractions.empty()) << "no budget, nothing to follow";
 }
 
 TEST_F(TrainingLoop, WallClockBudgetCountsScoringTrainingClockBudgetDoesNot) {
