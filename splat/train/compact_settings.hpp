@@ -26,9 +26,10 @@ struct CompactSettings {
   bool relocate_dead = false;
 
   // Pruning: at every growth step, Gaussians below prune_opacity; at the end of every
-  // window of prune_window iterations (0 = one epoch of the training views, at least
-  // grow_interval) from grow_from to prune_until, Gaussians whose blending weight summed over
-  // the window (in full-size pixels) is below prune_weight: they made nothing visible.
+  // window of prune_window iterations (0 = two epochs of the training views, the shortest
+  // window sure to hold every view, and at least grow_interval) from grow_from to
+  // prune_until, Gaussians whose blending weight summed over the window (in full-size
+  // pixels) is below prune_weight: they made nothing visible.
   float prune_opacity = 0.005f;
   float prune_weight = 0.0f;
   int prune_window = 0;

@@ -42,8 +42,10 @@ CompactStrategy::CompactStrategy(const CompactSettings& settings,
   if (settings.grow_interval < 1) throw ArgumentError("compact strategy: grow_interval must be >= 1");
   if (settings.warmup_divisor < 1) throw ArgumentError("compact strategy: warmup_divisor must be >= 1");
   if (!(settings.grow_max_fraction >= 0)) throw ArgumentError("compact strategy: grow_max_fraction must be >= 0");
+  // Views come in shuffled epochs, so only a window of two epochs' length is sure to hold
+  // every training view: a Gaussian seen from a few views only is not pruned for being unseen.
   window_ = settings.prune_window > 0 ? settings.prune_window
-                                      : std::max<int>(settings.grow_interval, int(train_views));
+                                      : std::max<int>(settings.grow_interval, 2 * int(train_views));
   reset_stats(gaussian_count);
   window_weight_.assign(gaussian_count, 0.0f);
 }
