@@ -89,14 +89,6 @@ GroupLearningRates SplatTrainer::learning_rates() const {
   lr.opacity = config_.opacity_lr;
   lr.scales = config_.scale_lr;
   lr.rotations = config_.rotation_lr;
-  if (config_.other_lr_final_fraction != 1.0f) {
-    // The other groups decay log-linearly to this fraction over the position's schedule
-    // (constant in the official recipe): late steps then settle rather than jitter.
-    double t = double(iteration_ + 1) / double(std::max(1, config_.position_lr_max_steps));
-    if (config_.position_lr_follows_time_budget) t = std::max(t, time_budget_fraction_);
-    const float factor = float(std::pow(double(config_.other_lr_final_fraction), std::clamp(t, 0.0, 1.0)));
-    for (float* rate : {&lr.sh_dc, &lr.sh_rest, &lr.opacity, &lr.scales, &lr.rotations}) *rate *= factor;
-  }
   return lr;
 }
 

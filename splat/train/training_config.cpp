@@ -22,7 +22,6 @@ void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
   v("position_lr_final", c.position_lr_final);
   v("position_lr_max_steps", c.position_lr_max_steps);
   v("position_lr_follows_time_budget", c.position_lr_follows_time_budget);
-  v("other_lr_final_fraction", c.other_lr_final_fraction);
   v("sh_dc_lr", c.sh_dc_lr);
   v("sh_rest_lr", c.sh_rest_lr);
   v("opacity_lr", c.opacity_lr);

@@ -31,9 +31,6 @@ struct SplatTrainingConfig {
   // the budget spent: it follows whichever of iterations and time runs out first, so a short
   // run ends refined instead of stopped mid-move.
   bool position_lr_follows_time_budget = false;
-  // The SH, opacity, scale and rotation rates decay to this fraction of themselves over the
-  // position's schedule (1 = constant, the official recipe).
-  float other_lr_final_fraction = 1.0f;
   float sh_dc_lr = 2.5e-3f, sh_rest_lr = 2.5e-3f / 20.0f;
   float opacity_lr = 0.05f, scale_lr = 5e-3f, rotation_lr = 1e-3f;
 

@@ -24,7 +24,9 @@ fs::path tiny_dataset(const fs::path& dir) {
   const fs::path d = dir / "data";
   test::write_demo_dataset(d, 8, 2, kSize, 2000);
   test::write_text(dir / "splat.json", R"({"iterations": 500, "random_init_points": 2000, "densify_from_iter": 100,
-    "densification_interval": 50, "opacity_reset_interval": 200, "densify_until_iter": 250})");
+    "densification_interval": 50, "opacity_reset_interval": 200, "densify_until_iter": 250,
+    "compact_warmup_until": 60, "compact_grow_from": 100, "compact_grow_interval": 50,
+    "compact_grow_until": 250, "compact_prune_window": 50})");
   test::write_text(dir / "nerf.json", R"({"iterations": 200, "rays_per_batch": 256, "occupancy_warmup": 100,
     "occupancy_interval": 10, "lr_init": 5e-3, "lr_final": 5e-4, "lr_decay_iterations": 400,
     "model": {"coarse": {"depth": 2, "width": 32, "skip_layer": -1, "color_width": 16},
@@ -57,7 +59,7 @@ TEST(EvalCli, TrainsBothMethodsAndWritesResultsModelsRendersAndGrids) {
   const fs::path dir = test::scratch_dir("eval_cli_basic");
   const fs::path data = tiny_dataset(dir);
   const auto r = test::run_command(
-      eval_command(dir, data, "--methods splat,nerf --max-seconds 60 --eval-every-seconds 0.5 --threads 2"), dir);
+      eval_command(dir, data, "--methods splat,nerf --max-seconds 60 --eval-every-seconds 0.05 --threads 2"), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   // Progress names the method, the stage and the ETA.
   for (const char* word : {"[splat", "[nerf", "training", "scoring", "rendering", "ETA"})
