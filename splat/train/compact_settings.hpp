@@ -32,6 +32,10 @@ struct CompactSettings {
   // pixels) is below prune_weight: they made nothing visible.
   float prune_opacity = 0.005f;
   float prune_weight = 0.0f;
+  // Compare prune_weight with the largest blending weight in any one view of the window
+  // instead of the sum: a Gaussian drawn strongly in a few views only (a highlight, a
+  // silhouette) is kept, one drawn faintly everywhere is not.
+  bool prune_by_peak_weight = false;
   int prune_window = 0;
   int prune_until = 30000;
 

@@ -105,7 +105,9 @@ DensityStepReport CompactStrategy::step_post_backward(int iteration, bool last_i
     if (stats.radii[i] <= 0) continue;
     grad_accum_[i] += stats.viewspace_grad_norm[i];
     visible_views_[i] += 1.0f;
-    window_weight_[i] += stats.blend_weight[i] * pixel_scale;
+    const float weight = stats.blend_weight[i] * pixel_scale;
+    window_weight_[i] = settings_.prune_by_peak_weight ? std::max(window_weight_[i], weight)
+                                                       : window_weight_[i] + weight;
   }
 
   DensityStepReport report;

@@ -58,6 +58,7 @@ void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
   v("compact_relocate_dead", k.relocate_dead);
   v("compact_prune_opacity", k.prune_opacity);
   v("compact_prune_weight", k.prune_weight);
+  v("compact_prune_by_peak_weight", k.prune_by_peak_weight);
   v("compact_prune_window", k.prune_window);
   v("compact_prune_until", k.prune_until);
   v("compact_opacity_reset_interval", k.opacity_reset_interval);

@@ -152,6 +152,36 @@ TEST(CompactStrategy, AdamMomentsStayWithTheirRowsThroughGrowthPruningAndRelocat
     }
 }
 
+// Over a window of 10 views, even rows are drawn faintly in every view (1 pixel each: sum 10,
+// peak 1) and odd rows strongly in one view only (6 pixels: sum 6, peak 6). The sum rule
+// prunes the odd rows at a threshold of 8; the peak rule prunes the even ones at 3.
+TEST(CompactStrategy, PruningComparesTheSummedOrThePeakBlendingWeight) {
+  for (bool peak : {false, true}) {
+    Fixture f(40);
+    CompactSettings s;
+    s.grow_from = 0;
+    s.grow_until = 0;
+    s.prune_window = 10;
+    s.prune_weight = peak ? 3.0f : 8.0f;
+    s.prune_by_peak_weight = peak;
+    CompactStrategy strategy(s, {}, 10, 0, f.model.size());
+    for (int it = 1; it <= 10; ++it) {
+      GaussianModel grads = f.model;
+      grads.set_zero();
+      TrainingState state = f.state();
+      Stats stats(f.model.size(), 0.0f, 0.0f);
+      for (std::size_t i = 0; i < stats.weight.size(); ++i)
+        stats.weight[i] = i % 2 == 0 ? 1.0f : (it == 4 ? 6.0f : 0.0f);
+      strategy.step_post_backward(it, false, state, grads, stats.view());
+    }
+    ASSERT_EQ(f.model.size(), 20u) << (peak ? "peak" : "sum");
+    for (std::size_t r = 0; r < 20; ++r) {
+      const int original_row = int(Fixture::tag(f.model, r)) - 1;
+      EXPECT_EQ(original_row % 2, peak ? 1 : 0) << (peak ? "peak" : "sum") << ": row " << r;
+    }
+  }
+}
+
 TEST(CompactStrategy, TheLastIterationOnlyGathersStatistics) {
   Fixture f(50);
   CompactStrategy strategy(growth_settings(), {}, 10, 0, f.model.size());
