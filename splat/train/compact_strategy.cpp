@@ -114,13 +114,14 @@ DensityStepReport CompactStrategy::step_post_backward(int iteration, bool last_i
   report.count_after = n;
   if (last_iteration) return report;
   const CompactSettings& s = settings_;
-  if (iteration > s.grow_from && iteration <= s.grow_until && iteration % s.grow_interval == 0)
+  const int phase = std::max(iteration, state.schedule_iteration);
+  if (iteration > s.grow_from && phase <= s.grow_until && iteration % s.grow_interval == 0)
     grow(iteration, state, report);
-  if (s.prune_weight > 0 && iteration >= s.grow_from && iteration <= s.prune_until &&
+  if (s.prune_weight > 0 && iteration >= s.grow_from && phase <= s.prune_until &&
       iteration % window_ == 0)
     prune_by_weight(state, report);
   if (iteration % window_ == 0) std::fill(window_weight_.begin(), window_weight_.end(), 0.0f);
-  if (s.opacity_reset_interval > 0 && iteration <= s.grow_until &&
+  if (s.opacity_reset_interval > 0 && phase <= s.grow_until &&
       iteration % s.opacity_reset_interval == 0) {
     reset_opacity(state.model, state.adam, s.opacity_reset_value);
     report.opacity_reset = true;

@@ -33,6 +33,11 @@ struct TrainingState {
   AdamState& adam;
   std::mt19937& rng;  // the trainer's one random stream (view order, splits, ...)
   float scene_extent;
+  // Where the run stands in the schedule's terms: the iteration, or further along when a time
+  // budget is running out first (SplatTrainingConfig::schedule_follows_time_budget). Phases
+  // (grow until, prune until) compare with it; intervals count real iterations. 0 = the
+  // iteration itself.
+  int schedule_iteration = 0;
 };
 
 // Per-Gaussian results of the iteration's backward pass, all [N] for the current model.

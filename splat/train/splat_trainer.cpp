@@ -82,7 +82,7 @@ GroupLearningRates SplatTrainer::learning_rates() const {
                                  config_.position_lr_max_steps};
   GroupLearningRates lr;
   lr.means = float(position(iteration_ + 1));  // the official evaluates it at the 1-based iteration
-  if (config_.position_lr_follows_time_budget)
+  if (config_.schedule_follows_time_budget)
     lr.means = std::min(lr.means, float(position.at_fraction(time_budget_fraction_)));
   lr.sh_dc = config_.sh_dc_lr;
   lr.sh_rest = config_.sh_rest_lr;
@@ -133,7 +133,10 @@ StepResult SplatTrainer::step() {
   start = Clock::now();
   // The run's last iteration only gathers statistics (see DensityStrategy). Extending a
   // finished run with --resume and more iterations therefore misses that one decision.
-  TrainingState state{model_, adam_, rng_, scene_extent_};
+  TrainingState state{model_, adam_, rng_, scene_extent_, iteration};
+  if (config_.schedule_follows_time_budget)
+    state.schedule_iteration = std::max(
+        iteration, int(time_budget_fraction_ * double(config_.position_lr_max_steps)));
   const BackwardStats stats{grads_.viewspace_grad_norm, rasterizer_.projected().radius,
                             grads_.blend_weight, camera.width, camera.height};
   result.density = strategy_->step_post_backward(iteration, iteration == config_.iterations,

@@ -21,7 +21,7 @@ void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
   v("position_lr_init", c.position_lr_init);
   v("position_lr_final", c.position_lr_final);
   v("position_lr_max_steps", c.position_lr_max_steps);
-  v("position_lr_follows_time_budget", c.position_lr_follows_time_budget);
+  v("schedule_follows_time_budget", c.schedule_follows_time_budget);
   v("sh_dc_lr", c.sh_dc_lr);
   v("sh_rest_lr", c.sh_rest_lr);
   v("opacity_lr", c.opacity_lr);
@@ -80,9 +80,9 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
     // Fewer random starting points: most of a random cloud dies in empty space anyway, and
     // the first iterations over 100,000 large transparent Gaussians are the slowest of a run.
     config.random_init_points = 30000;
-    // A run cut short by a time budget ends with the position step decayed, refining
-    // rather than still moving.
-    config.position_lr_follows_time_budget = true;
+    // A run cut short by a time budget stops growing half-way and ends with the position
+    // step decayed, refining rather than still moving.
+    config.schedule_follows_time_budget = true;
     CompactSettings& c = config.compact;
     c.warmup_divisor = 2;
     c.warmup_until = 1500;

@@ -27,10 +27,12 @@ struct SplatTrainingConfig {
   // Learning rates (the position one is scaled by the scene extent and decays exponentially).
   double position_lr_init = 1.6e-4, position_lr_final = 1.6e-6;
   int position_lr_max_steps = 30000;
-  // With a time budget (--max-seconds), the position step also decays with the fraction of
-  // the budget spent: it follows whichever of iterations and time runs out first, so a short
-  // run ends refined instead of stopped mid-move.
-  bool position_lr_follows_time_budget = false;
+  // With a time budget (--max-seconds), the schedules also follow the fraction of the budget
+  // spent: the position step and the density strategy's phases (growth, pruning) act at
+  // whichever of iterations and time is further along, the fraction f of the budget counting
+  // as iteration f × position_lr_max_steps. A short run then stops growing in time to settle
+  // and ends refined instead of stopped mid-move.
+  bool schedule_follows_time_budget = false;
   float sh_dc_lr = 2.5e-3f, sh_rest_lr = 2.5e-3f / 20.0f;
   float opacity_lr = 0.05f, scale_lr = 5e-3f, rotation_lr = 1e-3f;
 

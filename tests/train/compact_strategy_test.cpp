@@ -182,6 +182,29 @@ TEST(CompactStrategy, PruningComparesTheSummedOrThePeakBlendingWeight) {
   }
 }
 
+// A time budget running out moves the schedule on: at iteration 20 of a run whose budget is
+// as far along as iteration 2,000, growth (until 1,000) has ended.
+TEST(CompactStrategy, GrowthEndsWhenTheScheduleIterationPassesItsLimit) {
+  for (int schedule_iteration : {0, 2000}) {
+    Fixture f(100);
+    CompactSettings s = growth_settings();
+    s.grow_until = 1000;
+    CompactStrategy strategy(s, {}, 10, 0, f.model.size());
+    for (int it = 1; it <= 20; ++it) {
+      GaussianModel grads = f.model;
+      grads.set_zero();
+      TrainingState state = f.state();
+      state.schedule_iteration = schedule_iteration;
+      const Stats stats(f.model.size(), 1.0f, 100.0f);
+      strategy.step_post_backward(it, false, state, grads, stats.view());
+    }
+    if (schedule_iteration == 0)
+      EXPECT_GT(f.model.size(), 100u);
+    else
+      EXPECT_EQ(f.model.size(), 100u);
+  }
+}
+
 TEST(CompactStrategy, TheLastIterationOnlyGathersStatistics) {
   Fixture f(50);
   CompactStrategy strategy(growth_settings(), {}, 10, 0, f.model.size());
