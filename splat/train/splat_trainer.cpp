@@ -76,14 +76,21 @@ const Image& SplatTrainer::training_image(std::size_t view, int divisor) {
   return reduced;
 }
 
+double SplatTrainer::schedule_iteration(int iteration) const {
+  if (!config_.schedule_follows_time_budget) return iteration;
+  return std::max(double(iteration), time_budget_fraction_ * double(config_.position_lr_max_steps));
+}
+
 GroupLearningRates SplatTrainer::learning_rates() const {
   ExponentialLrSchedule position{config_.position_lr_init * scene_extent_,
                                  config_.position_lr_final * scene_extent_,
                                  config_.position_lr_max_steps};
   GroupLearningRates lr;
-  lr.means = float(position(iteration_ + 1));  // the official evaluates it at the 1-based iteration
-  if (config_.schedule_follows_time_budget)
-    lr.means = std::min(lr.means, float(position.at_fraction(time_budget_fraction_)));
+  // The official evaluates it at the 1-based iteration.
+  lr.means = config_.schedule_follows_time_budget
+                 ? float(position.at_fraction(schedule_iteration(iteration_ + 1) /
+                                              double(config_.position_lr_max_steps)))
+                 : float(position(iteration_ + 1));
   lr.sh_dc = config_.sh_dc_lr;
   lr.sh_rest = config_.sh_rest_lr;
   lr.opacity = config_.opacity_lr;
@@ -134,9 +141,7 @@ StepResult SplatTrainer::step() {
   // The run's last iteration only gathers statistics (see DensityStrategy). Extending a
   // finished run with --resume and more iterations therefore misses that one decision.
   TrainingState state{model_, adam_, rng_, scene_extent_, iteration};
-  if (config_.schedule_follows_time_budget)
-    state.schedule_iteration = std::max(
-        iteration, int(time_budget_fraction_ * double(config_.position_lr_max_steps)));
+  state.schedule_iteration = int(schedule_iteration(iteration));
   const BackwardStats stats{grads_.viewspace_grad_norm, rasterizer_.projected().radius,
                             grads_.blend_weight, camera.width, camera.height};
   result.density = strategy_->step_post_backward(iteration, iteration == config_.iterations,

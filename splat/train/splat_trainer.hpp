@@ -112,6 +112,10 @@ class SplatTrainer {
   // The training image of view `view` at 1/divisor of its size (built once, then kept).
   const Image& training_image(std::size_t view, int divisor);
   GroupLearningRates learning_rates() const;
+  // How far the run's schedules (position step, growth and pruning phases) have advanced, in
+  // iterations: `iteration` itself, or under schedule_follows_time_budget the spent fraction
+  // of the time budget × position_lr_max_steps when that is further along.
+  double schedule_iteration(int iteration) const;
 
   const Dataset& dataset_;
   SplatTrainingConfig config_;

@@ -87,7 +87,11 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
     c.warmup_divisor = 2;
     c.warmup_until = 1500;
     c.grow_max_fraction = 1.0;
-    c.prune_weight = 2.0f;
+    // A Gaussian must cover a fifth of a pixel's weight in at least one view of the window:
+    // on scenes/ this keeps highlights and silhouettes seen by few views (which a threshold
+    // on the summed weight removes) and removes more of the faint haze (scenes/README.md).
+    c.prune_by_peak_weight = true;
+    c.prune_weight = 0.2f;
     c.prune_until = 25000;
     return config;
   }
