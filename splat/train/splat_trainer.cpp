@@ -87,10 +87,8 @@ GroupLearningRates SplatTrainer::learning_rates() const {
                                  config_.position_lr_max_steps};
   GroupLearningRates lr;
   // The official evaluates it at the 1-based iteration.
-  lr.means = config_.schedule_follows_time_budget
-                 ? float(position.at_fraction(schedule_iteration(iteration_ + 1) /
-                                              double(config_.position_lr_max_steps)))
-                 : float(position(iteration_ + 1));
+  lr.means = float(position.at_fraction(schedule_iteration(iteration_ + 1) /
+                                        double(config_.position_lr_max_steps)));
   lr.sh_dc = config_.sh_dc_lr;
   lr.sh_rest = config_.sh_rest_lr;
   lr.opacity = config_.opacity_lr;
@@ -140,8 +138,7 @@ StepResult SplatTrainer::step() {
   start = Clock::now();
   // The run's last iteration only gathers statistics (see DensityStrategy). Extending a
   // finished run with --resume and more iterations therefore misses that one decision.
-  TrainingState state{model_, adam_, rng_, scene_extent_, iteration};
-  state.schedule_iteration = int(schedule_iteration(iteration));
+  TrainingState state{model_, adam_, rng_, scene_extent_, int(schedule_iteration(iteration))};
   const BackwardStats stats{grads_.viewspace_grad_norm, rasterizer_.projected().radius,
                             grads_.blend_weight, camera.width, camera.height};
   result.density = strategy_->step_post_backward(iteration, iteration == config_.iterations,
