@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <tbb/parallel_for.h>
 
 #include "splat/composite.hpp"
-#include "splat/core/simd.hpp"
-#include "splat/raster/raster_constants.hpp"
+#include "splat/raster/tile_walk.hpp"
 
 namespace splat {
 
@@ -15,16 +15,7 @@ namespace {
 using simd::f32v;
 using simd::i32v;
 using simd::kLanes;
-
-f32v lane_index() {
-  f32v v;
-  for (int i = 0; i < kLanes; ++i) v[i] = float(i);
-  return v;
-}
-
-constexpr int kChunksPerRow = kTileSize / kLanes;        // kLanes-pixel chunks in a tile row
-constexpr int kChunksPerTile = kTileSize * kChunksPerRow;
-static_assert(kTileSize % kLanes == 0);
+using namespace tile_walk;
 
 // The running state of one tile's 256 pixels, kLanes at a time.
 struct TileState {
@@ -33,88 +24,113 @@ struct TileState {
   i32v last_blended[kChunksPerTile];  // list position + 1 of the last Gaussian blended
 };
 
-void blend_tile(int tile_x, int tile_y, const ProjectedGaussians& projected,
-                const TileBins& bins, const TileGrid& grid, const float background[3],
-                RenderResult& result) {
-  const int width = result.color.width, height = result.color.height;
-  const int x0 = tile_x * kTileSize, y0 = tile_y * kTileSize;
-  const f32v lane_offsets = lane_index();
-
-  TileState state;
+// Pixels beyond the image border (partial tiles) start finished. Returns the live pixels.
+int start_tile(int x0, int y0, int width, int height, TileState& state) {
   int live_pixels = 0;
   for (int chunk = 0; chunk < kChunksPerTile; ++chunk) {
     const int y = y0 + chunk / kChunksPerRow;
     const int x = x0 + (chunk % kChunksPerRow) * kLanes;
     state.accum[chunk] = CompositeAccum<f32v>::start();
     state.last_blended[chunk] = i32v{};
-    const f32v lane_x = lane_offsets + float(x);
-    // Pixels beyond the image border (partial tiles) start finished.
-    state.finished[chunk] = (lane_x >= float(width)) | (i32v{} - int(y >= height));
+    state.finished[chunk] = ((lane_index() + float(x)) >= float(width)) | (i32v{} - int(y >= height));
     live_pixels += kLanes - simd::count(state.finished[chunk]);
   }
+  return live_pixels;
+}
+
+void write_tile(int x0, int y0, const TileState& state, const float background[3],
+                RenderResult& result) {
+  const int width = result.color.width, height = result.color.height;
+  for (int chunk = 0; chunk < kChunksPerTile; ++chunk) {
+    const int y = y0 + chunk / kChunksPerRow;
+    if (y >= height) break;
+    const int x_first = x0 + (chunk % kChunksPerRow) * kLanes;
+    const int lanes = std::min(kLanes, width - x_first);
+    if (lanes <= 0) continue;
+    const CompositeAccum<f32v>& a = state.accum[chunk];
+    f32v rgb[3];
+    for (int ch = 0; ch < 3; ++ch) rgb[ch] = composite_finish(a, ch, background[ch]);
+    const f32v alpha = 1.0f - a.transmittance;
+    const std::size_t p0 = std::size_t(y) * width + x_first;
+    float* color = &result.color.data[3 * p0];
+    for (int lane = 0; lane < lanes; ++lane)
+      for (int ch = 0; ch < 3; ++ch) color[3 * lane + ch] = rgb[ch][lane];
+    // The planar outputs hold the chunk's pixels contiguously.
+    const std::size_t bytes = std::size_t(lanes) * sizeof(float);
+    std::memcpy(&result.alpha[p0], &alpha, bytes);
+    std::memcpy(&result.depth[p0], &a.depth, bytes);
+    std::memcpy(&result.final_transmittance[p0], &a.transmittance, bytes);
+    std::memcpy(&result.contributor_count[p0], &state.last_blended[chunk], bytes);
+  }
+}
+
+// kCount: also tally the work into `counts`, walking every list to its end (the blend itself
+// is the same); a separate instantiation, so the timed renders carry no counters.
+template <bool kCount>
+void blend_tile(int tile_x, int tile_y, const ProjectedGaussians& projected, const TileBins& bins,
+                const TileGrid& grid, const float background[3], RenderResult& result,
+                BlendWorkCounts* counts) {
+  const int width = result.color.width, height = result.color.height;
+  const int x0 = tile_x * kTileSize, y0 = tile_y * kTileSize;
+  TileState state;
+  int live_pixels = start_tile(x0, y0, width, height, state);
 
   const std::size_t tile = std::size_t(tile_y) * grid.tiles_x + tile_x;
   const std::uint32_t list_begin = bins.tile_start[tile], list_end = bins.tile_start[tile + 1];
   // The list is in depth order, not memory order: fetch records a few steps ahead so the
   // loads do not stall the blend.
   constexpr std::uint32_t kPrefetchDistance = 4;
-  for (std::uint32_t k = list_begin; k < list_end && live_pixels > 0; ++k) {
+  for (std::uint32_t k = list_begin; k < list_end && (kCount || live_pixels > 0); ++k) {
+    if constexpr (kCount) {
+      ++counts->list_entries;
+      counts->visited_entries += live_pixels > 0;
+    }
     if (k + kPrefetchDistance < list_end)
       __builtin_prefetch(&projected.splats[bins.gaussian_ids[k + kPrefetchDistance]]);
     const Splat2D& s = projected.splats[bins.gaussian_ids[k]];
-    // Only the pixels inside the α ≥ kMinAlpha box can blend anything.
-    const int row_lo = std::max(y0, int(std::ceil(s.mean_y - s.extent_y)));
-    const int row_hi = std::min(y0 + kTileSize - 1, int(std::floor(s.mean_y + s.extent_y)));
-    const int col_lo = std::max(x0, int(std::ceil(s.mean_x - s.extent_x)));
-    const int col_hi = std::min(x0 + kTileSize - 1, int(std::floor(s.mean_x + s.extent_x)));
-    if (row_lo > row_hi || col_lo > col_hi) continue;
-    const int chunk_lo = (col_lo - x0) / kLanes, chunk_hi = (col_hi - x0) / kLanes;
+    const Footprint box = footprint_in_tile(s, x0, y0);
+    if (box.empty()) continue;
+    const SplatReach reach(s);
+    bool reaches = false;  // a pixel of the tile at α ≥ kMinAlpha (counting only)
     const f32v opacity = simd::broadcast(s.opacity);
     const f32v red = simd::broadcast(s.color[0]), green = simd::broadcast(s.color[1]),
-                blue = simd::broadcast(s.color[2]), depth = simd::broadcast(s.depth);
+               blue = simd::broadcast(s.color[2]), depth = simd::broadcast(s.depth);
     const i32v position = i32v{} + int(k - list_begin + 1);
 
-    for (int y = row_lo; y <= row_hi; ++y) {
-      const float dy = s.mean_y - float(y);
-      const float row_term = s.conic_c * dy * dy;
-      for (int c = chunk_lo; c <= chunk_hi; ++c) {
+    for (int c = box.chunk_lo; c <= box.chunk_hi; ++c) {
+      const SplatColumn column(s, x0, c);
+      int first_row, last_row;
+      trim_rows(s, reach, x0, c, box, first_row, last_row);
+      for (int y = first_row; y <= last_row; ++y) {
         const int chunk = (y - y0) * kChunksPerRow + c;
         const i32v live = ~state.finished[chunk];
-        if (!simd::any(live)) continue;
-        // d = splat centre − pixel centre, as in the reference rasterizer.
-        const f32v dx = s.mean_x - (lane_offsets + float(x0 + c * kLanes));
-        const f32v power = -0.5f * (s.conic_a * dx * dx + row_term) - s.conic_b * dx * dy;
-        const f32v alpha =
-            simd::min(simd::broadcast(kMaxAlpha), opacity * simd::exp_nonpositive(power));
-        const i32v contributes = live & (power <= 0.0f) & (alpha >= kMinAlpha);
-        if (!simd::any(contributes)) continue;
+        if (!kCount && !simd::any(live)) continue;
+        const float dy = s.mean_y - float(y);
+        const f32v power = column.power(dy, s.conic_c * dy * dy);
+        const f32v alpha = alpha_of(opacity, power);
+        const i32v passes = draws(power, alpha);
+        if constexpr (kCount) {
+          const f32v lane_x = lane_index() + float(x0 + c * kLanes);
+          reaches = reaches ||
+                    simd::any(passes & (lane_x < float(width)) & (i32v{} - int(y < height)));
+          if (simd::any(live)) counts->pixel_evaluations += kLanes;
+          counts->passing_evaluations += simd::count(live & passes);
+        }
+        const i32v contributes = live & passes;
         const i32v finished_before = state.finished[chunk];
         const i32v blended = composite_step(state.accum[chunk], contributes, alpha, red, green,
-                                             blue, depth, state.finished[chunk]);
+                                            blue, depth, state.finished[chunk]);
         state.last_blended[chunk] = blended ? position : state.last_blended[chunk];
         const i32v newly_finished = state.finished[chunk] & ~finished_before;
         if (simd::any(newly_finished)) live_pixels -= simd::count(newly_finished);
       }
     }
-  }
-
-  for (int chunk = 0; chunk < kChunksPerTile; ++chunk) {
-    const int y = y0 + chunk / kChunksPerRow;
-    if (y >= height) break;
-    const CompositeAccum<f32v>& a = state.accum[chunk];
-    for (int lane = 0; lane < kLanes; ++lane) {
-      const int x = x0 + (chunk % kChunksPerRow) * kLanes + lane;
-      if (x >= width) break;
-      const std::size_t p = std::size_t(y) * width + x;
-      const float t = a.transmittance[lane];
-      for (int ch = 0; ch < 3; ++ch)
-        result.color.data[3 * p + ch] = composite_finish(a, ch, background[ch])[lane];
-      result.alpha[p] = 1.0f - t;
-      result.depth[p] = a.depth[lane];
-      result.final_transmittance[p] = t;
-      result.contributor_count[p] = std::uint32_t(state.last_blended[chunk][lane]);
+    if constexpr (kCount) {
+      ++counts->box_entries;
+      counts->reaching_entries += reaches;
     }
   }
+  write_tile(x0, y0, state, background, result);
 }
 
 }  // namespace
@@ -122,8 +138,21 @@ void blend_tile(int tile_x, int tile_y, const ProjectedGaussians& projected,
 void blend_tiles(const ProjectedGaussians& projected, const TileBins& bins, const TileGrid& grid,
                  const float background[3], RenderResult& result) {
   tbb::parallel_for(0, grid.count(), [&](int tile) {
-    blend_tile(tile % grid.tiles_x, tile / grid.tiles_x, projected, bins, grid, background, result);
+    blend_tile<false>(tile % grid.tiles_x, tile / grid.tiles_x, projected, bins, grid, background,
+                      result, nullptr);
   });
+}
+
+BlendWorkCounts count_blend_work(const ProjectedGaussians& projected, const TileBins& bins,
+                                 const TileGrid& grid, int width, int height) {
+  RenderResult scratch;
+  scratch.resize(width, height);
+  const float background[3] = {0, 0, 0};
+  BlendWorkCounts total;
+  for (int tile = 0; tile < grid.count(); ++tile)
+    blend_tile<true>(tile % grid.tiles_x, tile / grid.tiles_x, projected, bins, grid, background,
+                     scratch, &total);
+  return total;
 }
 
 }  // namespace splat

@@ -1,6 +1,8 @@
 #pragma once
 // Stage 3 of the rasterizer: per tile, blend its Gaussians front to back into every pixel
 // through the shared compositor (splat/composite.hpp).
+#include <cstdint>
+
 #include "splat/raster/bin_sort.hpp"
 #include "splat/raster/project.hpp"
 #include "splat/raster/render_result.hpp"
@@ -12,5 +14,30 @@ namespace splat {
 // bit-identical for any thread count. `result` must be sized for width x height.
 void blend_tiles(const ProjectedGaussians& projected, const TileBins& bins, const TileGrid& grid,
                  const float background[3], RenderResult& result);
+
+// The work of one blend_tiles call, for benchmarks: the Gaussian–tile pairs the lists hold and
+// how many of them could draw anything, and the pixel evaluations the walk makes.
+struct BlendWorkCounts {
+  std::uint64_t list_entries = 0;         // Gaussian–tile pairs in the tile lists
+  std::uint64_t box_entries = 0;          // ... whose α ≥ kMinAlpha box holds a pixel of the tile
+  std::uint64_t reaching_entries = 0;     // ... with a pixel of the tile at α ≥ kMinAlpha
+  std::uint64_t visited_entries = 0;      // pairs walked before all the tile's pixels finished
+  std::uint64_t pixel_evaluations = 0;    // pixel–Gaussian α evaluations of the walk
+  std::uint64_t passing_evaluations = 0;  // ... at α ≥ kMinAlpha on a pixel still blending
+
+  BlendWorkCounts& operator+=(const BlendWorkCounts& o) {
+    list_entries += o.list_entries;
+    box_entries += o.box_entries;
+    reaching_entries += o.reaching_entries;
+    visited_entries += o.visited_entries;
+    pixel_evaluations += o.pixel_evaluations;
+    passing_evaluations += o.passing_evaluations;
+    return *this;
+  }
+};
+
+// Counts by walking the frame again with counters (single-threaded; for benchmarks only).
+BlendWorkCounts count_blend_work(const ProjectedGaussians& projected, const TileBins& bins,
+                                 const TileGrid& grid, int width, int height);
 
 }  // namespace splat

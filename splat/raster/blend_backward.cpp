@@ -7,7 +7,7 @@
 
 #include "splat/composite.hpp"
 #include "splat/core/simd.hpp"
-#include "splat/raster/raster_constants.hpp"
+#include "splat/raster/tile_walk.hpp"
 
 namespace splat {
 
@@ -16,15 +16,7 @@ namespace {
 using simd::f32v;
 using simd::i32v;
 using simd::kLanes;
-
-constexpr int kChunksPerRow = kTileSize / kLanes;
-constexpr int kChunksPerTile = kTileSize * kChunksPerRow;
-
-f32v lane_index() {
-  f32v v;
-  for (int i = 0; i < kLanes; ++i) v[i] = float(i);
-  return v;
-}
+using namespace tile_walk;
 
 // Per-pixel inputs and the reverse compositing state of one tile, kLanes pixels a chunk.
 struct TileReverseState {
@@ -93,37 +85,35 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
   // Entries no pixel reached contribute nothing.
   std::memset(static_cast<void*>(&overlap_grads[list_begin + max_count]), 0,
               (list_end - list_begin - max_count) * sizeof(Splat2DGrad));
-  const f32v lane_offsets = lane_index();
 
   for (int k = max_count - 1; k >= 0; --k) {
     const std::uint32_t position = list_begin + std::uint32_t(k);
     if (k >= 4) __builtin_prefetch(&projected.splats[bins.gaussian_ids[position - 4]]);
     const Splat2D& s = projected.splats[bins.gaussian_ids[position]];
     GradAccum acc;
-    // The same pixel box as the forward pass (outside it nothing was blended).
-    const int row_lo = std::max(y0, int(std::ceil(s.mean_y - s.extent_y)));
-    const int row_hi = std::min(y0 + kTileSize - 1, int(std::floor(s.mean_y + s.extent_y)));
-    const int col_lo = std::max(x0, int(std::ceil(s.mean_x - s.extent_x)));
-    const int col_hi = std::min(x0 + kTileSize - 1, int(std::floor(s.mean_x + s.extent_x)));
-    if (row_lo <= row_hi && col_lo <= col_hi) {
-      const int chunk_lo = (col_lo - x0) / kLanes, chunk_hi = (col_hi - x0) / kLanes;
+    // The same pixels as the forward pass (outside them nothing was blended).
+    const Footprint box = footprint_in_tile(s, x0, y0);
+    if (!box.empty()) {
+      const SplatReach reach(s);
       const f32v opacity = simd::broadcast(s.opacity);
       const f32v red = simd::broadcast(s.color[0]), green = simd::broadcast(s.color[1]),
                  blue = simd::broadcast(s.color[2]);
-      for (int y = row_lo; y <= row_hi; ++y) {
-        const float dy = s.mean_y - float(y);
-        const float row_term = s.conic_c * dy * dy;
-        for (int c = chunk_lo; c <= chunk_hi; ++c) {
+      for (int c = box.chunk_lo; c <= box.chunk_hi; ++c) {
+        const SplatColumn column(s, x0, c);
+        int first_row, last_row;
+        trim_rows(s, reach, x0, c, box, first_row, last_row);
+        for (int y = first_row; y <= last_row; ++y) {
           const int chunk = (y - y0) * kChunksPerRow + c;
           // Lanes whose list reaches entry k (contributor_count counts entries 1-based).
           const i32v in_list = state.contributor_count[chunk] > k;
           if (!simd::any(in_list)) continue;
-          const f32v dx = s.mean_x - (lane_offsets + float(x0 + c * kLanes));
-          const f32v power = -0.5f * (s.conic_a * dx * dx + row_term) - s.conic_b * dx * dy;
+          const float dy = s.mean_y - float(y);
+          const f32v dx = column.dx;
+          const f32v power = column.power(dy, s.conic_c * dy * dy);
           const f32v gaussian = simd::exp_nonpositive(power);
           const f32v raw_alpha = opacity * gaussian;
           const f32v alpha = simd::min(simd::broadcast(kMaxAlpha), raw_alpha);
-          const i32v blended = in_list & (power <= 0.0f) & (alpha >= kMinAlpha);
+          const i32v blended = in_list & draws(power, alpha);
           if (!simd::any(blended)) continue;
 
           f32v v_alpha, v_rgb[3];

@@ -107,6 +107,7 @@ void project_gaussians(const GaussianModel& model, const Camera& camera, int sh_
       // that ellipse is ±sqrt(q_max · Σ'ᵢᵢ). Outside it nothing is blended, so only tiles
       // (and, in blending, pixels) inside it need visiting. A small margin absorbs rounding.
       const float q_max = 2.0f * std::log(s.opacity / kMinAlpha);
+      s.q_max = q_max;
       if (!(q_max > 0.0f)) {
         s.extent_x = s.extent_y = 0.0f;
         continue;  // too transparent to ever reach kMinAlpha

@@ -8,7 +8,7 @@
 
 namespace splat {
 
-// What blending needs of one Gaussian, packed into 48 bytes so a tile's pass over its list
+// What blending needs of one Gaussian, packed into 52 bytes so a tile's pass over its list
 // touches one or two cache lines per Gaussian.
 struct Splat2D {
   float mean_x, mean_y;              // pixel coordinates, pixel centres at integers
@@ -17,6 +17,7 @@ struct Splat2D {
   float color[3];                    // SH colour + 0.5, clamped at 0
   float depth;                       // camera-space z
   float extent_x, extent_y;          // half-size of the box outside which α < kMinAlpha
+  float q_max;                       // α ≥ kMinAlpha needs dᵀΣ'⁻¹d ≤ q_max = 2 ln(o / kMinAlpha)
 };
 
 // Tiles [x0, x1) x [y0, y1) a Gaussian is binned into. Empty when x0 == x1 or y0 == y1.

@@ -4,7 +4,6 @@
 #include <string>
 
 #include "splat/core/error.hpp"
-#include "splat/raster/blend.hpp"
 #include "splat/raster/project_backward.hpp"
 
 namespace splat {
@@ -27,6 +26,8 @@ void Rasterizer::render(const GaussianModel& model, const Camera& camera,
                         const RenderSettings& settings, RenderResult& result) {
   check_render_inputs(model, camera);
   grid_ = TileGrid::for_image(camera.width, camera.height);
+  width_ = camera.width;
+  height_ = camera.height;
   result.resize(camera.width, camera.height);
 
   auto start = Clock::now();
@@ -40,6 +41,10 @@ void Rasterizer::render(const GaussianModel& model, const Camera& camera,
   start = Clock::now();
   blend_tiles(projected_, bins_, grid_, settings.background, result);
   timings_.blend_ms = ms_since(start);
+}
+
+BlendWorkCounts Rasterizer::last_blend_work() const {
+  return count_blend_work(projected_, bins_, grid_, width_, height_);
 }
 
 void Rasterizer::backward(const GaussianModel& model, const Camera& camera,

@@ -4,6 +4,7 @@
 #include "splat/core/camera.hpp"
 #include "splat/gaussians/gaussian_model.hpp"
 #include "splat/raster/bin_sort.hpp"
+#include "splat/raster/blend.hpp"
 #include "splat/raster/blend_backward.hpp"
 #include "splat/raster/project.hpp"
 #include "splat/raster/render_result.hpp"
@@ -53,11 +54,14 @@ class Rasterizer {
   const ProjectedGaussians& projected() const { return projected_; }
   const TileBins& bins() const { return bins_; }
   const TileGrid& grid() const { return grid_; }
+  // The work of the last render's blend (benchmarks; walks the frame again, single-threaded).
+  BlendWorkCounts last_blend_work() const;
 
  private:
   ProjectedGaussians projected_;
   TileBins bins_;
   TileGrid grid_;
+  int width_ = 0, height_ = 0;  // of the last render
   RenderTimings timings_;
   std::vector<Splat2DGrad> overlap_grads_;  // [M] scratch for the backward pass
 };

@@ -6,6 +6,8 @@
 #include <optional>
 #include <vector>
 
+#include <tbb/global_control.h>
+
 #include "splat/core/error.hpp"
 #include "splat/data/image_io.hpp"
 #include "splat/data/transforms_json.hpp"
@@ -95,6 +97,7 @@ int run_render_command(const RenderCommandOptions& options) {
   Rasterizer rasterizer;
   RenderResult result;
   std::vector<double> total_ms, project_ms, bin_sort_ms, blend_ms;
+  BlendWorkCounts work;  // summed over the frames, counted once per frame
 
   for (const CameraFrame& frame : frames) {
     rasterizer.render(model, frame.camera, settings, result);  // also the warm-up
@@ -111,6 +114,7 @@ int run_render_command(const RenderCommandOptions& options) {
       bin_sort_ms.push_back(t.bin_sort_ms);
       blend_ms.push_back(t.blend_ms);
     }
+    if (options.bench_repeats > 0) work += rasterizer.last_blend_work();
     if (options.bench_repeats == 0)
       std::printf("%s  %dx%d  %.1f ms\n", png.string().c_str(), frame.camera.width,
                   frame.camera.height, rasterizer.last_timings().total_ms());
@@ -122,13 +126,35 @@ int run_render_command(const RenderCommandOptions& options) {
     const double ms = median(total_ms);
     std::printf("median ms per frame: %.3f (projection %.3f, binning+sort %.3f, blending %.3f)\n",
                 ms, median(project_ms), median(bin_sort_ms), median(blend_ms));
+    // Work per frame (means over the frames), and the blend's pixel evaluations per second
+    // per core: over its median time and the threads it ran on.
+    const double n = double(frames.size());
+    const std::size_t threads =
+        tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+    const double blend_s = median(blend_ms) * 1e-3;
+    const double evals_per_core_second =
+        blend_s > 0 ? double(work.pixel_evaluations) / n / blend_s / double(threads) : 0.0;
+    std::printf("per frame: %.0f Gaussian-tile pairs listed, %.0f visited, %.0f with a pixel at "
+                "alpha >= 1/255; %.0f pixel evaluations (%.1f %% passing), %.3g per second per "
+                "core (%zu threads)\n",
+                double(work.list_entries) / n, double(work.visited_entries) / n,
+                double(work.reaching_entries) / n, double(work.pixel_evaluations) / n,
+                work.pixel_evaluations > 0
+                    ? 100.0 * double(work.passing_evaluations) / double(work.pixel_evaluations)
+                    : 0.0,
+                evals_per_core_second, threads);
     std::printf(
         "{\"frames\": %zu, \"width\": %d, \"height\": %d, \"ms_per_frame\": %.4f, \"fps\": %.3f, "
         "\"project_ms\": %.4f, \"bin_sort_ms\": %.4f, \"blend_ms\": %.4f, \"gaussians\": %zu, "
-        "\"renders\": %zu}\n",
+        "\"pairs_listed\": %.0f, \"pairs_in_box\": %.0f, \"pairs_reaching\": %.0f, "
+        "\"pairs_visited\": %.0f, \"pixel_evaluations\": %.0f, \"passing_evaluations\": %.0f, "
+        "\"evaluations_per_core_second\": %.4g, \"threads\": %zu, \"renders\": %zu}\n",
         frames.size(), frames.front().camera.width, frames.front().camera.height, ms,
         ms > 0 ? 1000.0 / ms : 0.0, median(project_ms), median(bin_sort_ms), median(blend_ms),
-        model.size(), total_ms.size());
+        model.size(), double(work.list_entries) / n, double(work.box_entries) / n,
+        double(work.reaching_entries) / n, double(work.visited_entries) / n,
+        double(work.pixel_evaluations) / n, double(work.passing_evaluations) / n,
+        evals_per_core_second, threads, total_ms.size());
   }
   std::fflush(stdout);
   return 0;

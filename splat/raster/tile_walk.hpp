@@ -1,0 +1,81 @@
+#pragma once
+// What the per-tile forward pass (blend.cpp) and its backward (blend_backward.cpp) share: the
+// layout of a tile's pixels in SIMD chunks, and the part of a tile one splat can draw in. The
+// backward must re-evaluate exactly the α the forward blended, so both take α from here.
+#include <algorithm>
+#include <cmath>
+
+#include "splat/core/simd.hpp"
+#include "splat/raster/project.hpp"
+#include "splat/raster/raster_constants.hpp"
+#include "splat/raster/splat_reach.hpp"
+
+namespace splat::tile_walk {
+
+using simd::f32v;
+using simd::i32v;
+using simd::kLanes;
+
+// A tile row is kChunksPerRow chunks of kLanes pixels; chunk index = row * kChunksPerRow + column.
+constexpr int kChunksPerRow = kTileSize / kLanes;
+constexpr int kChunksPerTile = kTileSize * kChunksPerRow;
+static_assert(kTileSize % kLanes == 0);
+
+inline f32v lane_index() {
+  f32v v;
+  for (int i = 0; i < kLanes; ++i) v[i] = float(i);
+  return v;
+}
+
+// The rows and chunk columns of the tile at (x0, y0) inside a splat's α ≥ kMinAlpha box
+// (rows are absolute pixel rows; columns are chunk indices within the tile row).
+struct Footprint {
+  int row_lo, row_hi, chunk_lo, chunk_hi;
+  bool empty() const { return row_lo > row_hi || chunk_lo > chunk_hi; }
+};
+
+inline Footprint footprint_in_tile(const Splat2D& s, int x0, int y0) {
+  const int row_lo = std::max(y0, int(std::ceil(s.mean_y - s.extent_y)));
+  const int row_hi = std::min(y0 + kTileSize - 1, int(std::floor(s.mean_y + s.extent_y)));
+  const int col_lo = std::max(x0, int(std::ceil(s.mean_x - s.extent_x)));
+  const int col_hi = std::min(x0 + kTileSize - 1, int(std::floor(s.mean_x + s.extent_x)));
+  if (col_lo > col_hi) return {row_lo, row_hi, 1, 0};
+  return {row_lo, row_hi, (col_lo - x0) / kLanes, (col_hi - x0) / kLanes};
+}
+
+// The splat seen from one chunk column: dx = mean_x − pixel x per lane, and the terms of the
+// exponent that depend on dx alone, so each row costs little more than the exp.
+struct SplatColumn {
+  f32v dx, a_dx, b_dx;
+
+  SplatColumn(const Splat2D& s, int x0, int column) {
+    dx = s.mean_x - (lane_index() + float(x0 + column * kLanes));
+    a_dx = s.conic_a * dx;
+    b_dx = s.conic_b * dx;
+  }
+
+  // The exponent −½(a dx² + c dy²) − b dx dy at row offset dy = mean_y − y, given
+  // row_term = c dy²; d = splat centre − pixel centre, as in the reference rasterizer.
+  f32v power(float dy, float row_term) const { return -0.5f * (a_dx * dx + row_term) - b_dx * dy; }
+};
+
+inline f32v alpha_of(f32v opacity, f32v power) {
+  return simd::min(simd::broadcast(kMaxAlpha), opacity * simd::exp_nonpositive(power));
+}
+
+// Lanes that draw: α ≥ kMinAlpha with the exponent not positive (as the reference tests).
+inline i32v draws(f32v power, f32v alpha) { return (power <= 0.0f) & (alpha >= kMinAlpha); }
+
+// The rows of `box` in which chunk `column` of the tile at x0 may draw, trimmed from both
+// ends (the rows between are all evaluated, so the row loop itself has no test). Empty if
+// first > last.
+inline void trim_rows(const Splat2D& s, const SplatReach& reach, int x0, int column,
+                      const Footprint& box, int& first, int& last) {
+  const float dx_hi = s.mean_x - float(x0 + column * kLanes), dx_lo = dx_hi - float(kLanes - 1);
+  first = box.row_lo;
+  last = box.row_hi;
+  while (first <= last && !reach.row_segment(s.mean_y - float(first), dx_lo, dx_hi)) ++first;
+  while (last > first && !reach.row_segment(s.mean_y - float(last), dx_lo, dx_hi)) --last;
+}
+
+}  // namespace splat::tile_walk
