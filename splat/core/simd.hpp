@@ -52,6 +52,20 @@ inline bool any(i32v mask) {
 }
 inline bool any(bool mask) { return mask; }
 
+// One bit per lane (bit i for lane i), set where the lane is.
+inline std::uint32_t bits(i32v mask) {
+#if defined(__AVX512F__)
+  const __m512i m = reinterpret_cast<__m512i>(mask);
+  return _mm512_test_epi32_mask(m, m);
+#elif defined(__AVX__)
+  return std::uint32_t(_mm256_movemask_ps(reinterpret_cast<__m256>(mask)));
+#else
+  std::uint32_t b = 0;
+  for (int i = 0; i < kLanes; ++i) b |= std::uint32_t(mask[i] != 0) << i;
+  return b;
+#endif
+}
+
 inline int count(i32v mask) {
   int n = 0;
   for (int i = 0; i < kLanes; ++i) n += mask[i] != 0;

@@ -100,9 +100,8 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
                  blue = simd::broadcast(s.color[2]);
       for (int c = box.chunk_lo; c <= box.chunk_hi; ++c) {
         const SplatColumn column(s, x0, c);
-        int first_row, last_row;
-        trim_rows(s, reach, x0, c, box, first_row, last_row);
-        for (int y = first_row; y <= last_row; ++y) {
+        for (std::uint32_t rows = rows_to_walk(s, reach, x0, y0, c, box); rows != 0; rows &= rows - 1) {
+          const int y = y0 + __builtin_ctz(rows);
           const int chunk = (y - y0) * kChunksPerRow + c;
           // Lanes whose list reaches entry k (contributor_count counts entries 1-based).
           const i32v in_list = state.contributor_count[chunk] > k;

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "splat/core/simd.hpp"
 #include "splat/raster/project.hpp"
 
 namespace splat {
@@ -24,27 +25,22 @@ class SplatReach {
         q_limit_(s.q_max * (1 + 1e-3f) + 1e-2f),
         never_cull_(!(s.conic_a > 0.0f)) {}  // degenerate: hand-made in tests
 
-  // May a pixel centre at row offset dy = mean_y − y with dx = mean_x − x in [dx_lo, dx_hi] draw?
-  bool row_segment(float dy, float dx_lo, float dx_hi) const {
-    if (never_cull_) return true;
-    return !(row_min(dy, dx_lo, dx_hi) > limit(far_size(dx_lo, dx_hi, dy)));  // NaN: draw
+  // The lanes of `dy` (row offsets mean_y − y, one row per lane) in which some pixel centre
+  // with dx = mean_x − x in [dx_lo, dx_hi] may draw.
+  simd::i32v rows_may_draw(simd::f32v dy, float dx_lo, float dx_hi) const {
+    using simd::f32v;
+    if (never_cull_) return simd::i32v{} - 1;
+    const f32v centre = -b_over_a_ * dy;
+    const f32v dx = simd::min(simd::max(centre, simd::broadcast(dx_lo)), simd::broadcast(dx_hi)) - centre;
+    const f32v q = s_.conic_a * dx * dx + det_over_a_ * dy * dy;
+    const float dx_far = std::max(std::abs(dx_lo), std::abs(dx_hi));
+    const f32v dy_far = simd::max(dy, -dy);
+    const f32v size = s_.conic_a * dx_far * dx_far + (2.0f * std::abs(s_.conic_b) * dx_far) * dy_far +
+                      s_.conic_c * dy * dy;
+    return ~(q > q_limit_ + 1e-5f * size);  // NaN: draw
   }
 
  private:
-  // min of q over dx ∈ [dx_lo, dx_hi] at fixed dy: at dx = −b dy / a, clamped.
-  float row_min(float dy, float dx_lo, float dx_hi) const {
-    const float centre = -b_over_a_ * dy;
-    const float dx = std::clamp(centre, dx_lo, dx_hi) - centre;
-    return s_.conic_a * dx * dx + det_over_a_ * dy * dy;
-  }
-  // The size of q's terms at the segment's farther end: the scale of the blend's rounding.
-  float far_size(float dx_lo, float dx_hi, float dy) const {
-    const float dx = std::max(std::abs(dx_lo), std::abs(dx_hi));
-    dy = std::abs(dy);
-    return s_.conic_a * dx * dx + 2.0f * std::abs(s_.conic_b) * dx * dy + s_.conic_c * dy * dy;
-  }
-  float limit(float size) const { return q_limit_ + 1e-5f * size; }
-
   const Splat2D& s_;
   float b_over_a_, det_over_a_;
   float q_limit_;

@@ -4,6 +4,7 @@
 // backward must re-evaluate exactly the α the forward blended, so both take α from here.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "splat/core/simd.hpp"
 #include "splat/raster/project.hpp"
@@ -66,16 +67,19 @@ inline f32v alpha_of(f32v opacity, f32v power) {
 // Lanes that draw: α ≥ kMinAlpha with the exponent not positive (as the reference tests).
 inline i32v draws(f32v power, f32v alpha) { return (power <= 0.0f) & (alpha >= kMinAlpha); }
 
-// The rows of `box` in which chunk `column` of the tile at x0 may draw, trimmed from both
-// ends (the rows between are all evaluated, so the row loop itself has no test). Empty if
-// first > last.
-inline void trim_rows(const Splat2D& s, const SplatReach& reach, int x0, int column,
-                      const Footprint& box, int& first, int& last) {
+// The rows of `box` in which chunk `column` of the tile at (x0, y0) may draw, as a bit mask
+// (bit r for row y0 + r). Every row of the tile is tested at once, one per lane.
+inline std::uint32_t rows_to_walk(const Splat2D& s, const SplatReach& reach, int x0, int y0,
+                                  int column, const Footprint& box) {
   const float dx_hi = s.mean_x - float(x0 + column * kLanes), dx_lo = dx_hi - float(kLanes - 1);
-  first = box.row_lo;
-  last = box.row_hi;
-  while (first <= last && !reach.row_segment(s.mean_y - float(first), dx_lo, dx_hi)) ++first;
-  while (last > first && !reach.row_segment(s.mean_y - float(last), dx_lo, dx_hi)) --last;
+  std::uint32_t rows = 0;
+  for (int r0 = 0; r0 < kTileSize; r0 += kLanes) {
+    const f32v y = lane_index() + float(y0 + r0);
+    const i32v walk = reach.rows_may_draw(s.mean_y - y, dx_lo, dx_hi) & (y >= float(box.row_lo)) &
+                      (y <= float(box.row_hi));
+    rows |= simd::bits(walk) << r0;
+  }
+  return rows;
 }
 
 }  // namespace splat::tile_walk
