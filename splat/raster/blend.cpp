@@ -142,15 +142,15 @@ void blend_tiles(const ProjectedGaussians& projected, const TileBins& bins, cons
   });
 }
 
-BlendWorkCounts count_blend_work(const ProjectedGaussians& projected, const TileBins& bins,
-                                 const TileGrid& grid, int width, int height) {
+BlendWorkCounts count_blend_work(const RenderResult& rendered) {
   RenderResult scratch;
-  scratch.resize(width, height);
+  scratch.resize(rendered.color.width, rendered.color.height);
   const float background[3] = {0, 0, 0};
+  const RasterFrame& frame = rendered.frame;
   BlendWorkCounts total;
-  for (int tile = 0; tile < grid.count(); ++tile)
-    blend_tile<true>(tile % grid.tiles_x, tile / grid.tiles_x, projected, bins, grid, background,
-                     scratch, &total);
+  for (int tile = 0; tile < frame.grid.count(); ++tile)
+    blend_tile<true>(tile % frame.grid.tiles_x, tile / frame.grid.tiles_x, frame.projected,
+                     frame.bins, frame.grid, background, scratch, &total);
   return total;
 }
 

@@ -36,8 +36,7 @@ struct BlendWorkCounts {
   }
 };
 
-// Counts by walking the frame again with counters (single-threaded; for benchmarks only).
-BlendWorkCounts count_blend_work(const ProjectedGaussians& projected, const TileBins& bins,
-                                 const TileGrid& grid, int width, int height);
+// Counts by walking a rendered frame again with counters (single-threaded; for benchmarks).
+BlendWorkCounts count_blend_work(const RenderResult& rendered);
 
 }  // namespace splat

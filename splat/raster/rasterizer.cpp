@@ -25,26 +25,21 @@ void check_render_inputs(const GaussianModel& model, const Camera& camera) {
 void Rasterizer::render(const GaussianModel& model, const Camera& camera,
                         const RenderSettings& settings, RenderResult& result) {
   check_render_inputs(model, camera);
-  grid_ = TileGrid::for_image(camera.width, camera.height);
-  width_ = camera.width;
-  height_ = camera.height;
+  RasterFrame& frame = result.frame;
+  frame.grid = TileGrid::for_image(camera.width, camera.height);
   result.resize(camera.width, camera.height);
 
   auto start = Clock::now();
-  project_gaussians(model, camera, settings.sh_degree, projected_);
+  project_gaussians(model, camera, settings.sh_degree, frame.projected);
   timings_.project_ms = ms_since(start);
 
   start = Clock::now();
-  bin_and_sort(projected_, grid_, bins_);
+  bin_and_sort(frame.projected, frame.grid, frame.bins);
   timings_.bin_sort_ms = ms_since(start);
 
   start = Clock::now();
-  blend_tiles(projected_, bins_, grid_, settings.background, result);
+  blend_tiles(frame.projected, frame.bins, frame.grid, settings.background, result);
   timings_.blend_ms = ms_since(start);
-}
-
-BlendWorkCounts Rasterizer::last_blend_work() const {
-  return count_blend_work(projected_, bins_, grid_, width_, height_);
 }
 
 void Rasterizer::backward(const GaussianModel& model, const Camera& camera,
@@ -55,17 +50,19 @@ void Rasterizer::backward(const GaussianModel& model, const Camera& camera,
     throw ArgumentError("backward: the colour cotangent and the forward result must match the "
                         "camera's " + std::to_string(camera.width) + "x" +
                         std::to_string(camera.height) + " image with 3 channels");
-  if (projected_.splats.size() != model.size())
-    throw ArgumentError("backward: the last render was of a different model");
+  const RasterFrame& frame = forward.frame;
+  if (frame.projected.splats.size() != model.size())
+    throw ArgumentError("backward: the forward result was rendered from a different model");
 
   auto start = Clock::now();
-  blend_tiles_backward(projected_, bins_, grid_, settings.background,
+  blend_tiles_backward(frame.projected, frame.bins, frame.grid, settings.background,
                        settings.alpha_clamp_gradient, forward, v_color, overlap_grads_);
   timings_.blend_backward_ms = ms_since(start);
 
   start = Clock::now();
-  project_gaussians_backward(model, camera, settings.sh_degree, projected_, bins_, overlap_grads_,
-                             grads.params, grads.viewspace_grad_norm, grads.blend_weight);
+  project_gaussians_backward(model, camera, settings.sh_degree, frame.projected, frame.bins,
+                             overlap_grads_, grads.params, grads.viewspace_grad_norm,
+                             grads.blend_weight);
   timings_.project_backward_ms = ms_since(start);
 }
 

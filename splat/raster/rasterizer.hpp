@@ -1,6 +1,8 @@
 #pragma once
-// The tile-based CPU rasterizer: project → bin and sort → blend. It owns its scratch buffers
-// so that rendering many frames (or training iterations) allocates nothing after the first.
+// The tile-based CPU rasterizer: project → bin and sort → blend. The frame's intermediate
+// state lives in the RenderResult (its `frame`), which the backward pass takes explicitly;
+// reusing one RenderResult (and one Rasterizer, for the backward's scratch) across frames or
+// training iterations allocates nothing after the first.
 #include "splat/core/camera.hpp"
 #include "splat/gaussians/gaussian_model.hpp"
 #include "splat/raster/bin_sort.hpp"
@@ -44,24 +46,14 @@ class Rasterizer {
               RenderResult& result);
 
   // Gradients of L with respect to every parameter of `model`, given v_color = ∂L/∂color
-  // ([H, W, 3]) for the image of the last render(), which must have been of this same model,
+  // ([H, W, 3]) for the image in `forward`, which render() must have made of this same model,
   // camera and settings. Bit-identical for any thread count.
   void backward(const GaussianModel& model, const Camera& camera, const RenderSettings& settings,
                 const RenderResult& forward, const Image& v_color, RasterGradients& grads);
 
   const RenderTimings& last_timings() const { return timings_; }
-  // The intermediate state of the last render, which the backward pass reuses.
-  const ProjectedGaussians& projected() const { return projected_; }
-  const TileBins& bins() const { return bins_; }
-  const TileGrid& grid() const { return grid_; }
-  // The work of the last render's blend (benchmarks; walks the frame again, single-threaded).
-  BlendWorkCounts last_blend_work() const;
 
  private:
-  ProjectedGaussians projected_;
-  TileBins bins_;
-  TileGrid grid_;
-  int width_ = 0, height_ = 0;  // of the last render
   RenderTimings timings_;
   std::vector<Splat2DGrad> overlap_grads_;  // [M] scratch for the backward pass
 };

@@ -1,11 +1,21 @@
 #pragma once
-// What one render produces: the image and the per-pixel state the backward pass needs.
+// What one render produces: the image, and everything its backward pass needs (the per-pixel
+// state and the frame's projection and tile lists), so the backward takes it explicitly.
 #include <cstdint>
 #include <vector>
 
 #include "splat/core/image.hpp"
+#include "splat/raster/bin_sort.hpp"
+#include "splat/raster/project.hpp"
 
 namespace splat {
+
+// The per-Gaussian and per-tile state of one rendered frame.
+struct RasterFrame {
+  ProjectedGaussians projected;  // every Gaussian's splat, radius and tile rectangle
+  TileBins bins;                 // each tile's front-to-back list
+  TileGrid grid;
+};
 
 struct RenderResult {
   Image color;                                   // [H, W, 3] with background, not clamped
@@ -14,6 +24,7 @@ struct RenderResult {
   std::vector<float> final_transmittance;        // [H, W] T after the last blended Gaussian
   std::vector<std::uint32_t> contributor_count;  // [H, W] entries of the pixel's tile list
                                                  // up to and including its last blended one
+  RasterFrame frame;                             // what the pixels were blended from
 
   void resize(int width, int height) {
     if (color.width != width || color.height != height || color.channels != 3)

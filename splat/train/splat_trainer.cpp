@@ -139,7 +139,7 @@ StepResult SplatTrainer::step() {
   // The run's last iteration only gathers statistics (see DensityStrategy). Extending a
   // finished run with --resume and more iterations therefore misses that one decision.
   TrainingState state{model_, adam_, rng_, scene_extent_, int(schedule_iteration(iteration))};
-  const BackwardStats stats{grads_.viewspace_grad_norm, rasterizer_.projected().radius,
+  const BackwardStats stats{grads_.viewspace_grad_norm, render_.frame.projected.radius,
                             grads_.blend_weight, camera.width, camera.height};
   result.density = strategy_->step_post_backward(iteration, iteration == config_.iterations,
                                                  state, grads_.params, stats);

@@ -104,5 +104,28 @@ TEST(Backward, RejectsMismatchedCotangent) {
                ArgumentError);
 }
 
+TEST(Backward, TakesItsFrameFromTheForwardResultItIsGiven) {
+  // Two forward results from one rasterizer: each backward reads its own result's frame, not
+  // whatever was rendered last, and a result of another model is refused.
+  const GaussianModel model = test::random_model(40, 1, 24);
+  const GaussianModel other = test::random_model(41, 1, 25);
+  const Camera camera = test::looking_at_origin(24, 20);
+  Rasterizer rasterizer;
+  RenderResult first, second;
+  rasterizer.render(model, camera, RenderSettings{}, first);
+  Image v_color(24, 20, 3);
+  std::mt19937 rng(26);
+  std::normal_distribution<float> normal;
+  for (float& v : v_color.data) v = normal(rng);
+  RasterGradients expected, got;
+  rasterizer.backward(model, camera, RenderSettings{}, first, v_color, expected);
+  rasterizer.render(other, camera, RenderSettings{}, second);
+  rasterizer.backward(model, camera, RenderSettings{}, first, v_color, got);
+  EXPECT_EQ(got.params.means, expected.params.means);
+  EXPECT_EQ(got.params.opacity_logits, expected.params.opacity_logits);
+  EXPECT_THROW(rasterizer.backward(model, camera, RenderSettings{}, second, v_color, got),
+               ArgumentError);
+}
+
 }  // namespace
 }  // namespace splat

@@ -35,8 +35,8 @@ void expect_matches_reference(const Scene& scene, const RenderSettings& settings
   render_reference(scene.model, scene.camera, settings, reference, &reference_last);
 
   const int w = scene.camera.width;
-  const TileGrid grid = rasterizer.grid();
-  const TileBins& bins = rasterizer.bins();
+  const TileGrid grid = tiled.frame.grid;
+  const TileBins& bins = tiled.frame.bins;
   int blended_pixels = 0;
   for (std::size_t p = 0; p < tiled.alpha.size(); ++p) {
     for (int c = 0; c < 3; ++c)

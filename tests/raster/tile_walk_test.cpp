@@ -42,12 +42,12 @@ TEST(TileWalk, RowsLeftOutNeverHoldAPixelThatDraws) {
   for (unsigned seed = 1; seed <= 3; ++seed) {
     Frame f;
     render_random(f, seed, 160, 128, 400);
-    const TileGrid& grid = f.rasterizer.grid();
-    const TileBins& bins = f.rasterizer.bins();
+    const TileGrid& grid = f.result.frame.grid;
+    const TileBins& bins = f.result.frame.bins;
     for (int tile = 0; tile < grid.count(); ++tile) {
       const int x0 = (tile % grid.tiles_x) * kTileSize, y0 = (tile / grid.tiles_x) * kTileSize;
       for (std::uint32_t k = bins.tile_start[tile]; k < bins.tile_start[tile + 1]; ++k) {
-        const Splat2D& s = f.rasterizer.projected().splats[bins.gaussian_ids[k]];
+        const Splat2D& s = f.result.frame.projected.splats[bins.gaussian_ids[k]];
         const Footprint box = footprint_in_tile(s, x0, y0);
         if (box.empty()) continue;
         const SplatReach reach(s);
@@ -73,9 +73,9 @@ TEST(TileWalk, RowsLeftOutNeverHoldAPixelThatDraws) {
 TEST(TileWalk, BlendWorkCountsMatchABruteForceCount) {
   Frame f;
   render_random(f, 7, 96, 80, 300);
-  const BlendWorkCounts work = f.rasterizer.last_blend_work();
-  const TileGrid& grid = f.rasterizer.grid();
-  const TileBins& bins = f.rasterizer.bins();
+  const BlendWorkCounts work = count_blend_work(f.result);
+  const TileGrid& grid = f.result.frame.grid;
+  const TileBins& bins = f.result.frame.bins;
   const int width = f.camera.width, height = f.camera.height;
 
   // Pairs with a pixel (inside the image) at α ≥ kMinAlpha, pixel by pixel.
@@ -83,7 +83,7 @@ TEST(TileWalk, BlendWorkCountsMatchABruteForceCount) {
   for (int tile = 0; tile < grid.count(); ++tile) {
     const int x0 = (tile % grid.tiles_x) * kTileSize, y0 = (tile / grid.tiles_x) * kTileSize;
     for (std::uint32_t k = bins.tile_start[tile]; k < bins.tile_start[tile + 1]; ++k) {
-      const Splat2D& s = f.rasterizer.projected().splats[bins.gaussian_ids[k]];
+      const Splat2D& s = f.result.frame.projected.splats[bins.gaussian_ids[k]];
       box += !footprint_in_tile(s, x0, y0).empty();
       bool reaches = false;
       for (int y = y0; y < std::min(y0 + kTileSize, height) && !reaches; ++y)

@@ -114,7 +114,7 @@ int run_render_command(const RenderCommandOptions& options) {
       bin_sort_ms.push_back(t.bin_sort_ms);
       blend_ms.push_back(t.blend_ms);
     }
-    if (options.bench_repeats > 0) work += rasterizer.last_blend_work();
+    if (options.bench_repeats > 0) work += count_blend_work(result);
     if (options.bench_repeats == 0)
       std::printf("%s  %dx%d  %.1f ms\n", png.string().c_str(), frame.camera.width,
                   frame.camera.height, rasterizer.last_timings().total_ms());
