@@ -109,9 +109,8 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
           const float dy = s.mean_y - float(y);
           const f32v dx = column.dx;
           const f32v power = column.power(dy, s.conic_c * dy * dy);
-          const f32v gaussian = simd::exp_nonpositive(power);
-          const f32v raw_alpha = opacity * gaussian;
-          const f32v alpha = simd::min(simd::broadcast(kMaxAlpha), raw_alpha);
+          const SplatAlpha a(opacity, power);
+          const f32v gaussian = a.gaussian, raw_alpha = a.raw, alpha = a.alpha;
           const i32v blended = in_list & draws(power, alpha);
           if (!simd::any(blended)) continue;
 
@@ -127,8 +126,8 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
           // G = exp(power): ∂G/∂power = G, so v_power = o G v_α.
           const f32v v_power = raw_alpha * v_alpha;
           // power = −½(a dx² + c dy²) − b dx dy with dx = mean_x − px, dy = mean_y − py.
-          acc.mean_x -= v_power * (s.conic_a * dx + s.conic_b * dy);
-          acc.mean_y -= v_power * (s.conic_c * dy + s.conic_b * dx);
+          acc.mean_x -= v_power * (column.a_dx + s.conic_b * dy);
+          acc.mean_y -= v_power * (s.conic_c * dy + column.b_dx);
           acc.conic_a -= 0.5f * v_power * dx * dx;
           acc.conic_b -= v_power * dx * dy;
           acc.conic_c -= (0.5f * dy * dy) * v_power;

@@ -60,9 +60,17 @@ struct SplatColumn {
   f32v power(float dy, float row_term) const { return -0.5f * (a_dx * dx + row_term) - b_dx * dy; }
 };
 
-inline f32v alpha_of(f32v opacity, f32v power) {
-  return simd::min(simd::broadcast(kMaxAlpha), opacity * simd::exp_nonpositive(power));
-}
+// α = min(kMaxAlpha, o·G) with G = exp(power), and the intermediates its backward needs.
+struct SplatAlpha {
+  f32v gaussian, raw, alpha;  // G, o·G, the clamped α
+
+  SplatAlpha(f32v opacity, f32v power)
+      : gaussian(simd::exp_nonpositive(power)),
+        raw(opacity * gaussian),
+        alpha(simd::min(simd::broadcast(kMaxAlpha), raw)) {}
+};
+
+inline f32v alpha_of(f32v opacity, f32v power) { return SplatAlpha(opacity, power).alpha; }
 
 // Lanes that draw: α ≥ kMinAlpha with the exponent not positive (as the reference tests).
 inline i32v draws(f32v power, f32v alpha) { return (power <= 0.0f) & (alpha >= kMinAlpha); }
