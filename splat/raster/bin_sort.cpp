@@ -7,6 +7,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 namespace splat {
@@ -60,7 +61,29 @@ void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, Til
   for (std::uint32_t id : order) keys[id] = depth_key(projected.splats[id].depth);
   radix_sort_by_key(keys, order, bins.sort_scratch);
 
-  // 2. Count overlaps per tile for each chunk of the depth order.
+  // Each Gaussian's first slot in the inverse map.
+  bins.overlap_start.resize(n + 1);
+  bins.overlap_start[0] = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    bins.overlap_start[i + 1] = bins.overlap_start[i] + std::uint32_t(projected.tiles[i].count());
+
+  // 2. The rectangles and first slots in depth order, gathered once: the passes below then
+  //    read them in order instead of missing the cache on every Gaussian twice.
+  bins.depth_rects.resize(order.size());
+  bins.depth_overlap_start.resize(order.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 4096), [&](const auto& range) {
+    constexpr std::size_t kPrefetchDistance = 16;
+    for (std::size_t k = range.begin(); k != range.end(); ++k) {
+      if (k + kPrefetchDistance < order.size()) {
+        __builtin_prefetch(&projected.tiles[order[k + kPrefetchDistance]]);
+        __builtin_prefetch(&bins.overlap_start[order[k + kPrefetchDistance]]);
+      }
+      bins.depth_rects[k] = projected.tiles[order[k]];
+      bins.depth_overlap_start[k] = bins.overlap_start[order[k]];
+    }
+  });
+
+  // 3. Count overlaps per tile for each chunk of the depth order.
   const std::size_t chunk_size = (order.size() + kFillChunks - 1) / kFillChunks;
   std::vector<std::uint32_t>& counts = bins.chunk_counts;  // [chunk, tile]
   counts.assign(kFillChunks * tile_count, 0);
@@ -68,13 +91,13 @@ void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, Til
     std::uint32_t* chunk_counts = &counts[chunk * tile_count];
     const std::size_t end = std::min(order.size(), (chunk + 1) * chunk_size);
     for (std::size_t k = chunk * chunk_size; k < end; ++k) {
-      const TileRect& r = projected.tiles[order[k]];
+      const TileRect& r = bins.depth_rects[k];
       for (int ty = r.y0; ty < r.y1; ++ty)
         for (int tx = r.x0; tx < r.x1; ++tx) ++chunk_counts[std::size_t(ty) * grid.tiles_x + tx];
     }
   });
 
-  // 3. Each chunk's write position in each tile: tiles in order, chunks in order within a
+  // 4. Each chunk's write position in each tile: tiles in order, chunks in order within a
   //    tile, so the result equals one sequential stable pass.
   bins.tile_start.assign(tile_count + 1, 0);
   std::uint64_t total = 0;
@@ -93,19 +116,15 @@ void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, Til
   bins.tile_start[tile_count] = std::uint32_t(total);
   bins.gaussian_ids.resize(total);
   bins.overlap_position.resize(total);
-  bins.overlap_start.resize(n + 1);
-  bins.overlap_start[0] = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    bins.overlap_start[i + 1] = bins.overlap_start[i] + std::uint32_t(projected.tiles[i].count());
 
-  // 4. Fill, each chunk into its own slots.
+  // 5. Fill, each chunk into its own slots.
   tbb::parallel_for(std::size_t(0), kFillChunks, [&](std::size_t chunk) {
     std::uint32_t* next = &counts[chunk * tile_count];
     const std::size_t end = std::min(order.size(), (chunk + 1) * chunk_size);
     for (std::size_t k = chunk * chunk_size; k < end; ++k) {
       const std::uint32_t id = order[k];
-      const TileRect& r = projected.tiles[id];
-      std::uint32_t* positions = &bins.overlap_position[bins.overlap_start[id]];
+      const TileRect& r = bins.depth_rects[k];
+      std::uint32_t* positions = &bins.overlap_position[bins.depth_overlap_start[k]];
       for (int ty = r.y0; ty < r.y1; ++ty)
         for (int tx = r.x0; tx < r.x1; ++tx) {
           const std::uint32_t position = next[std::size_t(ty) * grid.tiles_x + tx]++;

@@ -24,6 +24,8 @@ struct TileBins {
 
   // Scratch reused across frames.
   std::vector<std::uint32_t> depth_order, depth_keys, sort_scratch, chunk_counts;
+  std::vector<TileRect> depth_rects;                 // tiles[depth_order[k]]
+  std::vector<std::uint32_t> depth_overlap_start;   // overlap_start[depth_order[k]]
 };
 
 void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, TileBins& bins);

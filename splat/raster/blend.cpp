@@ -24,18 +24,19 @@ struct TileState {
   i32v last_blended[kChunksPerTile];  // list position + 1 of the last Gaussian blended
 };
 
-// Pixels beyond the image border (partial tiles) start finished. Returns the live pixels.
-int start_tile(int x0, int y0, int width, int height, TileState& state) {
-  int live_pixels = 0;
+// Pixels beyond the image border (partial tiles) start finished. Returns the chunks with a
+// live pixel, bit `chunk` for each.
+std::uint32_t start_tile(int x0, int y0, int width, int height, TileState& state) {
+  std::uint32_t live_chunks = 0;
   for (int chunk = 0; chunk < kChunksPerTile; ++chunk) {
     const int y = y0 + chunk / kChunksPerRow;
     const int x = x0 + (chunk % kChunksPerRow) * kLanes;
     state.accum[chunk] = CompositeAccum<f32v>::start();
     state.last_blended[chunk] = i32v{};
     state.finished[chunk] = ((lane_index() + float(x)) >= float(width)) | (i32v{} - int(y >= height));
-    live_pixels += kLanes - simd::count(state.finished[chunk]);
+    live_chunks |= std::uint32_t(simd::any(~state.finished[chunk])) << chunk;
   }
-  return live_pixels;
+  return live_chunks;
 }
 
 void write_tile(int x0, int y0, const TileState& state, const float background[3],
@@ -64,6 +65,104 @@ void write_tile(int x0, int y0, const TileState& state, const float background[3
   }
 }
 
+// The tile's list is blended a batch at a time: first each splat of the batch is entered in
+// the chunks it may draw in, then each chunk blends its entries with its state in registers,
+// so the state is loaded and stored once per batch instead of once per splat and row.
+constexpr int kBatch = 64;  // entries per chunk are a 64-bit mask
+static_assert(kChunksPerTile <= 32, "live chunks are a 32-bit mask");
+
+struct TileBatch {
+  int size = 0;
+  const Splat2D* splat[kBatch];
+  std::int32_t position[kBatch];            // list position + 1 (contributor_count)
+  std::uint32_t chunks[kBatch];             // per entry: the chunks it may draw in
+  std::uint64_t entries[kChunksPerTile];    // per chunk: the entries that may draw in it
+  bool reaches[kBatch];                     // (counting only) draws in some pixel
+};
+
+// The chunks of one splat: bit (row · kChunksPerRow + column) for each row and chunk column
+// of the tile it may draw in.
+std::uint32_t chunks_to_walk(const Splat2D& s, int x0, int y0) {
+  const Footprint box = footprint_in_tile(s, x0, y0);
+  if (box.empty()) return 0;
+  static_assert(kChunksPerRow == 2, "rows of two chunk columns are interleaved below");
+  const SplatReach reach(s);
+  std::uint32_t chunks = 0;
+  for (int c = box.chunk_lo; c <= box.chunk_hi; ++c)
+    chunks |= spread_to_even_bits(rows_to_walk(s, reach, x0, y0, c, box)) << c;
+  return chunks;
+}
+
+// Sets up entries [k, k + batch.size) of the tile's list: each entry's chunks, then each
+// chunk's entries (a bit transpose), leaving out the chunks not in `live`.
+void fill_batch(const ProjectedGaussians& projected, const TileBins& bins, std::uint32_t k,
+                std::uint32_t list_begin, int x0, int y0, std::uint32_t live, TileBatch& batch) {
+  for (int j = 0; j < batch.size; ++j) {
+    // The list is in depth order, not memory order: fetch records (both cache lines a
+    // record may straddle) some steps ahead.
+    constexpr int kPrefetchDistance = 16;
+    if (k + j + kPrefetchDistance < bins.tile_start.back()) {
+      const std::uint32_t id = bins.gaussian_ids[k + j + kPrefetchDistance];
+      const char* ahead = reinterpret_cast<const char*>(&projected.splats[id]);
+      __builtin_prefetch(ahead);
+      __builtin_prefetch(ahead + sizeof(Splat2D) - 1);
+    }
+    const Splat2D& s = projected.splats[bins.gaussian_ids[k + j]];
+    batch.splat[j] = &s;
+    batch.position[j] = std::int32_t(k + j - list_begin + 1);
+    batch.chunks[j] = chunks_to_walk(s, x0, y0) & live;
+  }
+  for (int j = batch.size; j < (batch.size + kLanes - 1) / kLanes * kLanes; ++j) batch.chunks[j] = 0;
+  std::fill(std::begin(batch.entries), std::end(batch.entries), 0);
+  for (int j0 = 0; j0 < batch.size; j0 += kLanes) {
+    i32v chunks;
+    std::memcpy(&chunks, &batch.chunks[j0], sizeof(chunks));
+    for (std::uint32_t todo = live; todo != 0; todo &= todo - 1) {
+      const int chunk = __builtin_ctz(todo);
+      const i32v has = (chunks << (31 - chunk)) < 0;  // bit `chunk` moved to the sign
+      batch.entries[chunk] |= std::uint64_t(simd::bits(has)) << j0;
+    }
+  }
+}
+
+// Blends chunk `chunk`'s entries of the batch into its state. Returns false once every pixel
+// of the chunk has finished (the rest of the list cannot change it).
+template <bool kCount>
+bool blend_chunk(int chunk, int x0, int y0, int width, int height, TileBatch& batch,
+                 TileState& state, BlendWorkCounts* counts) {
+  const int row = chunk / kChunksPerRow, column = chunk % kChunksPerRow;
+  const float y = float(y0 + row);
+  CompositeAccum<f32v> accum = state.accum[chunk];
+  i32v finished = state.finished[chunk];
+  i32v last_blended = state.last_blended[chunk];
+  for (std::uint64_t todo = batch.entries[chunk]; todo != 0; todo &= todo - 1) {
+    const int j = __builtin_ctzll(todo);
+    const Splat2D& s = *batch.splat[j];
+    const SplatColumn splat_column(s, x0, column);
+    const float dy = s.mean_y - y;
+    const f32v power = splat_column.power(dy, s.conic_c * dy * dy);
+    const f32v alpha = alpha_of(simd::broadcast(s.opacity), power);
+    const i32v passes = draws(power, alpha);
+    const i32v live = ~finished;
+    if constexpr (kCount) {
+      const f32v lane_x = lane_index() + float(x0 + column * kLanes);
+      if (simd::any(passes & (lane_x < float(width)) & (i32v{} - int(y0 + row < height))))
+        batch.reaches[j] = true;
+      if (simd::any(live)) counts->pixel_evaluations += kLanes;
+      counts->passing_evaluations += simd::count(live & passes);
+    }
+    const i32v blended = composite_step(accum, live & passes, alpha, simd::broadcast(s.color[0]),
+                                        simd::broadcast(s.color[1]), simd::broadcast(s.color[2]),
+                                        simd::broadcast(s.depth), finished);
+    last_blended = blended ? (i32v{} + batch.position[j]) : last_blended;
+    if (!kCount && !simd::any(~finished)) break;
+  }
+  state.accum[chunk] = accum;
+  state.finished[chunk] = finished;
+  state.last_blended[chunk] = last_blended;
+  return simd::any(~finished);
+}
+
 // kCount: also tally the work into `counts`, walking every list to its end (the blend itself
 // is the same); a separate instantiation, so the timed renders carry no counters.
 template <bool kCount>
@@ -73,61 +172,33 @@ void blend_tile(int tile_x, int tile_y, const ProjectedGaussians& projected, con
   const int width = result.color.width, height = result.color.height;
   const int x0 = tile_x * kTileSize, y0 = tile_y * kTileSize;
   TileState state;
-  int live_pixels = start_tile(x0, y0, width, height, state);
+  std::uint32_t live_chunks = start_tile(x0, y0, width, height, state);
+  constexpr std::uint32_t all_chunks = std::uint32_t((1ull << kChunksPerTile) - 1);
 
   const std::size_t tile = std::size_t(tile_y) * grid.tiles_x + tile_x;
   const std::uint32_t list_begin = bins.tile_start[tile], list_end = bins.tile_start[tile + 1];
-  // The list is in depth order, not memory order: fetch records a few steps ahead so the
-  // loads do not stall the blend.
-  constexpr std::uint32_t kPrefetchDistance = 4;
-  for (std::uint32_t k = list_begin; k < list_end && (kCount || live_pixels > 0); ++k) {
+  TileBatch batch;
+  for (std::uint32_t k = list_begin; k < list_end && (kCount || live_chunks != 0); k += kBatch) {
+    batch.size = int(std::min<std::uint32_t>(kBatch, list_end - k));
+    // Counting walks every chunk of every entry (for the reaching count); the blend of a
+    // finished chunk changes nothing, so the image is the same.
+    const std::uint32_t chunks = kCount ? all_chunks : live_chunks;
+    fill_batch(projected, bins, k, list_begin, x0, y0, chunks, batch);
     if constexpr (kCount) {
-      ++counts->list_entries;
-      counts->visited_entries += live_pixels > 0;
-    }
-    if (k + kPrefetchDistance < list_end)
-      __builtin_prefetch(&projected.splats[bins.gaussian_ids[k + kPrefetchDistance]]);
-    const Splat2D& s = projected.splats[bins.gaussian_ids[k]];
-    const Footprint box = footprint_in_tile(s, x0, y0);
-    if (box.empty()) continue;
-    const SplatReach reach(s);
-    bool reaches = false;  // a pixel of the tile at α ≥ kMinAlpha (counting only)
-    const f32v opacity = simd::broadcast(s.opacity);
-    const f32v red = simd::broadcast(s.color[0]), green = simd::broadcast(s.color[1]),
-               blue = simd::broadcast(s.color[2]), depth = simd::broadcast(s.depth);
-    const i32v position = i32v{} + int(k - list_begin + 1);
-
-    for (int c = box.chunk_lo; c <= box.chunk_hi; ++c) {
-      const SplatColumn column(s, x0, c);
-      for (std::uint32_t rows = rows_to_walk(s, reach, x0, y0, c, box); rows != 0; rows &= rows - 1) {
-        const int y = y0 + __builtin_ctz(rows);
-        const int chunk = (y - y0) * kChunksPerRow + c;
-        const i32v live = ~state.finished[chunk];
-        if (!kCount && !simd::any(live)) continue;
-        const float dy = s.mean_y - float(y);
-        const f32v power = column.power(dy, s.conic_c * dy * dy);
-        const f32v alpha = alpha_of(opacity, power);
-        const i32v passes = draws(power, alpha);
-        if constexpr (kCount) {
-          const f32v lane_x = lane_index() + float(x0 + c * kLanes);
-          reaches = reaches ||
-                    simd::any(passes & (lane_x < float(width)) & (i32v{} - int(y < height)));
-          if (simd::any(live)) counts->pixel_evaluations += kLanes;
-          counts->passing_evaluations += simd::count(live & passes);
-        }
-        const i32v contributes = live & passes;
-        const i32v finished_before = state.finished[chunk];
-        const i32v blended = composite_step(state.accum[chunk], contributes, alpha, red, green,
-                                            blue, depth, state.finished[chunk]);
-        state.last_blended[chunk] = blended ? position : state.last_blended[chunk];
-        const i32v newly_finished = state.finished[chunk] & ~finished_before;
-        if (simd::any(newly_finished)) live_pixels -= simd::count(newly_finished);
+      counts->list_entries += std::uint32_t(batch.size);
+      if (live_chunks != 0) counts->visited_entries += std::uint32_t(batch.size);
+      for (int j = 0; j < batch.size; ++j) {
+        batch.reaches[j] = false;
+        counts->box_entries += !footprint_in_tile(*batch.splat[j], x0, y0).empty();
       }
     }
-    if constexpr (kCount) {
-      ++counts->box_entries;
-      counts->reaching_entries += reaches;
+    for (std::uint32_t todo = chunks; todo != 0; todo &= todo - 1) {
+      const int chunk = __builtin_ctz(todo);
+      if (!blend_chunk<kCount>(chunk, x0, y0, width, height, batch, state, counts))
+        live_chunks &= ~(1u << chunk);
     }
+    if constexpr (kCount)
+      for (int j = 0; j < batch.size; ++j) counts->reaching_entries += batch.reaches[j];
   }
   write_tile(x0, y0, state, background, result);
 }

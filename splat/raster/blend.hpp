@@ -21,7 +21,8 @@ struct BlendWorkCounts {
   std::uint64_t list_entries = 0;         // Gaussian–tile pairs in the tile lists
   std::uint64_t box_entries = 0;          // ... whose α ≥ kMinAlpha box holds a pixel of the tile
   std::uint64_t reaching_entries = 0;     // ... with a pixel of the tile at α ≥ kMinAlpha
-  std::uint64_t visited_entries = 0;      // pairs walked before all the tile's pixels finished
+  std::uint64_t visited_entries = 0;      // pairs set up for blending (in batches of 64)
+                                          // before all the tile's pixels finished
   std::uint64_t pixel_evaluations = 0;    // pixel–Gaussian α evaluations of the walk
   std::uint64_t passing_evaluations = 0;  // ... at α ≥ kMinAlpha on a pixel still blending
 

@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#if defined(__BMI2__)
+#include <immintrin.h>
+#endif
 
 #include "splat/core/simd.hpp"
 #include "splat/raster/project.hpp"
@@ -88,6 +91,20 @@ inline std::uint32_t rows_to_walk(const Splat2D& s, const SplatReach& reach, int
     rows |= simd::bits(walk) << r0;
   }
   return rows;
+}
+
+// Bit i of `bits` (i < 16) to bit 2i: a chunk column's row mask to its chunks' bits.
+inline std::uint32_t spread_to_even_bits(std::uint32_t bits) {
+#if defined(__BMI2__)
+  return _pdep_u32(bits, 0x55555555u);
+#else
+  bits &= 0xffffu;
+  bits = (bits | (bits << 8)) & 0x00ff00ffu;
+  bits = (bits | (bits << 4)) & 0x0f0f0f0fu;
+  bits = (bits | (bits << 2)) & 0x33333333u;
+  bits = (bits | (bits << 1)) & 0x55555555u;
+  return bits;
+#endif
 }
 
 }  // namespace splat::tile_walk
