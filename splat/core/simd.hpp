@@ -82,8 +82,23 @@ inline int reduce_max(i32v v) {
 }
 
 inline f32v broadcast(float x) { return f32v{} + x; }
-inline f32v min(f32v a, f32v b) { return a < b ? a : b; }
-inline f32v max(f32v a, f32v b) { return a > b ? a : b; }
+// a < b ? a : b and a > b ? a : b, lane-wise. x86's min and max compute exactly these (the
+// second operand when either is NaN or both are zeros), in one instruction where the compiler
+// would otherwise emit a compare and a blend (it may not assume finite, unsigned-zero math).
+inline f32v min(f32v a, f32v b) {
+#if defined(__AVX__)
+  return reinterpret_cast<f32v>(_mm256_min_ps(reinterpret_cast<__m256>(a), reinterpret_cast<__m256>(b)));
+#else
+  return a < b ? a : b;
+#endif
+}
+inline f32v max(f32v a, f32v b) {
+#if defined(__AVX__)
+  return reinterpret_cast<f32v>(_mm256_max_ps(reinterpret_cast<__m256>(a), reinterpret_cast<__m256>(b)));
+#else
+  return a > b ? a : b;
+#endif
+}
 
 // e^x for x <= 0, relative error below 2e-7 (a few ulp), flushing to 0 below -87.
 // Cody-Waite range reduction x = n ln2 + r, |r| <= ln2/2, then a degree-6 Taylor-like
