@@ -29,20 +29,21 @@ std::uint32_t depth_key(float depth) {
 
 }  // namespace
 
-void radix_sort_by_key(const std::vector<std::uint32_t>& keys, std::vector<std::uint32_t>& ids,
-                       std::vector<std::uint32_t>& scratch) {
-  scratch.resize(ids.size());
-  for (int shift = 0; shift < 32; shift += kRadixBits) {
+void radix_sort_by_high_word(std::vector<std::uint64_t>& items, std::vector<std::uint64_t>& scratch) {
+  scratch.resize(items.size());
+  for (int shift = 32; shift < 64; shift += kRadixBits) {
     std::array<std::uint32_t, kRadixBuckets> offsets{};
-    for (std::uint32_t id : ids) ++offsets[(keys[id] >> shift) & (kRadixBuckets - 1)];
+    for (std::uint64_t item : items) ++offsets[(item >> shift) & (kRadixBuckets - 1)];
+    // A digit every item shares (the top bits of depths in one octave) needs no pass.
+    if (!items.empty() && offsets[(items[0] >> shift) & (kRadixBuckets - 1)] == items.size()) continue;
     std::uint32_t sum = 0;
     for (auto& o : offsets) {
       const std::uint32_t c = o;
       o = sum;
       sum += c;
     }
-    for (std::uint32_t id : ids) scratch[offsets[(keys[id] >> shift) & (kRadixBuckets - 1)]++] = id;
-    ids.swap(scratch);
+    for (std::uint64_t item : items) scratch[offsets[(item >> shift) & (kRadixBuckets - 1)]++] = item;
+    items.swap(scratch);
   }
 }
 
@@ -50,16 +51,17 @@ void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, Til
   const std::size_t n = projected.splats.size();
   const std::size_t tile_count = std::size_t(grid.count());
 
-  // 1. Gaussians that touch a tile, sorted front to back (ties keep index order).
-  std::vector<std::uint32_t>& order = bins.depth_order;
-  order.clear();
+  // 1. Gaussians that touch a tile, sorted front to back (ties keep index order): (depth
+  //    key, id) pairs sorted by key, read in order rather than through the ids.
+  std::vector<std::uint64_t>& pairs = bins.depth_pairs;
+  pairs.clear();
   for (std::size_t i = 0; i < n; ++i)
-    if (projected.tiles[i].count() > 0) order.push_back(std::uint32_t(i));
-  // Keys indexed by Gaussian id; only the visible ones are read.
-  std::vector<std::uint32_t>& keys = bins.depth_keys;
-  keys.resize(n);
-  for (std::uint32_t id : order) keys[id] = depth_key(projected.splats[id].depth);
-  radix_sort_by_key(keys, order, bins.sort_scratch);
+    if (projected.tiles[i].count() > 0)
+      pairs.push_back(std::uint64_t(depth_key(projected.splats[i].depth)) << 32 | i);
+  radix_sort_by_high_word(pairs, bins.sort_scratch);
+  std::vector<std::uint32_t>& order = bins.depth_order;
+  order.resize(pairs.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k) order[k] = std::uint32_t(pairs[k]);
 
   // Each Gaussian's first slot in the inverse map.
   bins.overlap_start.resize(n + 1);
@@ -83,17 +85,34 @@ void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, Til
     }
   });
 
-  // 3. Count overlaps per tile for each chunk of the depth order.
+  // 3. Count overlaps per tile for each chunk of the depth order: each rectangle adds 1 at
+  //    two corners and −1 at the other two of a (tiles_y + 1) × (tiles_x + 1) grid, whose
+  //    2D prefix sum is then the count per tile (O(1) per Gaussian, not per overlap).
   const std::size_t chunk_size = (order.size() + kFillChunks - 1) / kFillChunks;
+  const std::size_t stride = std::size_t(grid.tiles_x) + 1;
+  const std::size_t corner_cells = stride * (std::size_t(grid.tiles_y) + 1);
+  std::vector<std::int32_t>& corners = bins.chunk_corners;  // [chunk, corner cell]
+  corners.assign(kFillChunks * corner_cells, 0);
   std::vector<std::uint32_t>& counts = bins.chunk_counts;  // [chunk, tile]
-  counts.assign(kFillChunks * tile_count, 0);
+  counts.resize(kFillChunks * tile_count);
   tbb::parallel_for(std::size_t(0), kFillChunks, [&](std::size_t chunk) {
-    std::uint32_t* chunk_counts = &counts[chunk * tile_count];
+    std::int32_t* d = &corners[chunk * corner_cells];
     const std::size_t end = std::min(order.size(), (chunk + 1) * chunk_size);
     for (std::size_t k = chunk * chunk_size; k < end; ++k) {
       const TileRect& r = bins.depth_rects[k];
-      for (int ty = r.y0; ty < r.y1; ++ty)
-        for (int tx = r.x0; tx < r.x1; ++tx) ++chunk_counts[std::size_t(ty) * grid.tiles_x + tx];
+      ++d[r.y0 * stride + r.x0];
+      --d[r.y0 * stride + r.x1];
+      --d[r.y1 * stride + r.x0];
+      ++d[r.y1 * stride + r.x1];
+    }
+    std::uint32_t* chunk_counts = &counts[chunk * tile_count];
+    for (int ty = 0; ty < grid.tiles_y; ++ty) {
+      std::int32_t row_sum = 0;
+      for (int tx = 0; tx < grid.tiles_x; ++tx) {
+        row_sum += d[ty * stride + tx];
+        const std::int32_t above = ty > 0 ? std::int32_t(chunk_counts[std::size_t(ty - 1) * grid.tiles_x + tx]) : 0;
+        chunk_counts[std::size_t(ty) * grid.tiles_x + tx] = std::uint32_t(above + row_sum);
+      }
     }
   });
 

@@ -23,15 +23,17 @@ struct TileBins {
   std::vector<std::uint32_t> overlap_position;  // [M]
 
   // Scratch reused across frames.
-  std::vector<std::uint32_t> depth_order, depth_keys, sort_scratch, chunk_counts;
+  std::vector<std::uint32_t> depth_order, chunk_counts;
+  std::vector<std::uint64_t> depth_pairs, sort_scratch;  // (depth key << 32 | id)
+  std::vector<std::int32_t> chunk_corners;
   std::vector<TileRect> depth_rects;                 // tiles[depth_order[k]]
   std::vector<std::uint32_t> depth_overlap_start;   // overlap_start[depth_order[k]]
 };
 
 void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, TileBins& bins);
 
-// Stable LSD radix sort of `ids` by `keys[id]` (ascending); `scratch` is resized as needed.
-void radix_sort_by_key(const std::vector<std::uint32_t>& keys, std::vector<std::uint32_t>& ids,
-                       std::vector<std::uint32_t>& scratch);
+// Stable LSD radix sort of `items` by their high 32 bits (ascending); `scratch` is resized as
+// needed.
+void radix_sort_by_high_word(std::vector<std::uint64_t>& items, std::vector<std::uint64_t>& scratch);
 
 }  // namespace splat

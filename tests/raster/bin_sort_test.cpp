@@ -13,13 +13,25 @@ TEST(BinSort, RadixSortIsAStableSortByKey) {
   std::mt19937 rng(3);
   std::vector<std::uint32_t> keys(5000);
   for (auto& k : keys) k = rng() % 300 * 0x01010101u;  // many ties, every byte used
-  std::vector<std::uint32_t> ids(keys.size()), scratch;
-  for (std::uint32_t i = 0; i < ids.size(); ++i) ids[i] = i;
-  std::vector<std::uint32_t> expected = ids;
+  std::vector<std::uint32_t> expected(keys.size());
+  for (std::uint32_t i = 0; i < expected.size(); ++i) expected[i] = i;
+  std::shuffle(expected.begin(), expected.end(), rng);  // the low words in no particular order
+  std::vector<std::uint64_t> items, scratch;
+  for (std::uint32_t id : expected) items.push_back(std::uint64_t(keys[id]) << 32 | id);
   std::stable_sort(expected.begin(), expected.end(),
                    [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
-  radix_sort_by_key(keys, ids, scratch);
+  radix_sort_by_high_word(items, scratch);
+  std::vector<std::uint32_t> ids;
+  for (std::uint64_t item : items) ids.push_back(std::uint32_t(item));
   EXPECT_EQ(ids, expected);
+}
+
+TEST(BinSort, RadixSortSkipsNoDigitItNeeds) {
+  // Keys sharing their top digit (the pass that is skipped) but not the lower ones.
+  std::vector<std::uint64_t> items, scratch;
+  for (std::uint32_t i = 0; i < 100; ++i) items.push_back(std::uint64_t(0x40000000u | ((i * 37) % 100)) << 32 | i);
+  radix_sort_by_high_word(items, scratch);
+  for (std::size_t k = 1; k < items.size(); ++k) EXPECT_LE(items[k - 1] >> 32, items[k] >> 32);
 }
 
 TEST(BinSort, TileListsHoldEveryOverlapFrontToBack) {
