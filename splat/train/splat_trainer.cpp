@@ -89,11 +89,12 @@ GroupLearningRates SplatTrainer::learning_rates() const {
   // The official evaluates it at the 1-based iteration.
   lr.means = float(position.at_fraction(schedule_iteration(iteration_ + 1) /
                                         double(config_.position_lr_max_steps)));
-  lr.sh_dc = config_.sh_dc_lr;
-  lr.sh_rest = config_.sh_rest_lr;
-  lr.opacity = config_.opacity_lr;
-  lr.scales = config_.scale_lr;
-  lr.rotations = config_.rotation_lr;
+  const float appearance = appearance_lr_factor(config_, schedule_iteration(iteration_ + 1));
+  lr.sh_dc = config_.sh_dc_lr * appearance;
+  lr.sh_rest = config_.sh_rest_lr * appearance;
+  lr.opacity = config_.opacity_lr * appearance;
+  lr.scales = config_.scale_lr * appearance;
+  lr.rotations = config_.rotation_lr * appearance;
   return lr;
 }
 

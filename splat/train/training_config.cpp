@@ -1,5 +1,7 @@
 #include "splat/train/training_config.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "splat/core/error.hpp"
@@ -27,6 +29,8 @@ void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
   v("opacity_lr", c.opacity_lr);
   v("scale_lr", c.scale_lr);
   v("rotation_lr", c.rotation_lr);
+  v("appearance_lr_final_factor", c.appearance_lr_final_factor);
+  v("appearance_lr_decay_from", c.appearance_lr_decay_from);
   v("sh_degree", c.sh_degree);
   v("sh_increase_interval", c.sh_increase_interval);
   v("random_init_points", c.random_init_points);
@@ -71,6 +75,14 @@ void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
 }
 
 }  // namespace
+
+float appearance_lr_factor(const SplatTrainingConfig& config, double iteration) {
+  if (config.appearance_lr_final_factor == 1.0f) return 1.0f;
+  const double from = config.appearance_lr_decay_from;
+  const double span = std::max(1.0, double(config.position_lr_max_steps) - from);
+  const double t = std::clamp((iteration - from) / span, 0.0, 1.0);
+  return float(std::pow(double(config.appearance_lr_final_factor), t));
+}
 
 SplatTrainingConfig splat_training_preset(const std::string& strategy) {
   SplatTrainingConfig config;

@@ -35,6 +35,12 @@ struct SplatTrainingConfig {
   bool schedule_follows_time_budget = false;
   float sh_dc_lr = 2.5e-3f, sh_rest_lr = 2.5e-3f / 20.0f;
   float opacity_lr = 0.05f, scale_lr = 5e-3f, rotation_lr = 1e-3f;
+  // The other groups' rates (SH, opacity, scale, rotation) are constant in the official
+  // recipe, so the last scores of a run jitter by a few hundredths of a dB. Below 1, they
+  // decay log-linearly to this factor of their rate from schedule iteration
+  // appearance_lr_decay_from to position_lr_max_steps (1 = constant, the official).
+  float appearance_lr_final_factor = 1.0f;
+  int appearance_lr_decay_from = 0;
 
   int sh_degree = 3;                 // bands the model stores
   int sh_increase_interval = 1000;   // one more active band every this many iterations
@@ -49,6 +55,11 @@ struct SplatTrainingConfig {
   int test_interval = 1000;          // iterations between test evaluations (0 = end only)
   int checkpoint_interval = 5000;    // iterations between checkpoints (0 = none)
 };
+
+// The factor on the SH, opacity, scale and rotation rates at (schedule) iteration
+// `iteration`: 1 before appearance_lr_decay_from, appearance_lr_final_factor from
+// position_lr_max_steps on, log-linear in between.
+float appearance_lr_factor(const SplatTrainingConfig& config, double iteration);
 
 // The strategies splat-train knows, in the order the help lists them.
 inline const char* const kSplatStrategies[] = {"compact", "official"};
