@@ -3,6 +3,9 @@
 // reference 3DGS rasterizer (so models trained there keep their colours here).
 // Templated on the scalar so gradient tests can run in double.
 #include <glm/glm.hpp>
+#include <type_traits>
+
+#include "splat/core/simd.hpp"
 
 namespace splat {
 
@@ -14,30 +17,43 @@ constexpr double kShC3[7] = {-0.5900435899266435, 2.890611442640554, -0.45704579
                              0.3731763325901154,  -0.4570457994644658, 1.445305721320277,
                              -0.5900435899266435};
 
-// The (degree+1)^2 basis values for the unit direction `dir` (x, y, z), in coefficient order.
+// T(c) for a scalar T; c in every lane for a SIMD vector (simd::f32v), so the basis below
+// also evaluates kLanes directions at once.
 template <class T>
-inline void sh_basis(int degree, const glm::vec<3, T>& dir, T* basis) {
-  basis[0] = T(kShC0);
+inline T sh_constant(double c) {
+  if constexpr (std::is_arithmetic_v<T>) return T(c);
+  else return simd::broadcast(float(c));
+}
+
+// The (degree+1)^2 basis values for the unit direction (x, y, z), in coefficient order.
+template <class T>
+inline void sh_basis_xyz(int degree, T x, T y, T z, T* basis) {
+  auto k = [](double c) { return sh_constant<T>(c); };
+  basis[0] = k(kShC0);
   if (degree < 1) return;
-  const T x = dir.x, y = dir.y, z = dir.z;
-  basis[1] = -T(kShC1) * y;
-  basis[2] = T(kShC1) * z;
-  basis[3] = -T(kShC1) * x;
+  basis[1] = -k(kShC1) * y;
+  basis[2] = k(kShC1) * z;
+  basis[3] = -k(kShC1) * x;
   if (degree < 2) return;
   const T xx = x * x, yy = y * y, zz = z * z, xy = x * y, yz = y * z, xz = x * z;
-  basis[4] = T(kShC2[0]) * xy;
-  basis[5] = T(kShC2[1]) * yz;
-  basis[6] = T(kShC2[2]) * (T(2) * zz - xx - yy);
-  basis[7] = T(kShC2[3]) * xz;
-  basis[8] = T(kShC2[4]) * (xx - yy);
+  basis[4] = k(kShC2[0]) * xy;
+  basis[5] = k(kShC2[1]) * yz;
+  basis[6] = k(kShC2[2]) * (k(2) * zz - xx - yy);
+  basis[7] = k(kShC2[3]) * xz;
+  basis[8] = k(kShC2[4]) * (xx - yy);
   if (degree < 3) return;
-  basis[9] = T(kShC3[0]) * y * (T(3) * xx - yy);
-  basis[10] = T(kShC3[1]) * xy * z;
-  basis[11] = T(kShC3[2]) * y * (T(4) * zz - xx - yy);
-  basis[12] = T(kShC3[3]) * z * (T(2) * zz - T(3) * xx - T(3) * yy);
-  basis[13] = T(kShC3[4]) * x * (T(4) * zz - xx - yy);
-  basis[14] = T(kShC3[5]) * z * (xx - yy);
-  basis[15] = T(kShC3[6]) * x * (xx - T(3) * yy);
+  basis[9] = k(kShC3[0]) * y * (k(3) * xx - yy);
+  basis[10] = k(kShC3[1]) * xy * z;
+  basis[11] = k(kShC3[2]) * y * (k(4) * zz - xx - yy);
+  basis[12] = k(kShC3[3]) * z * (k(2) * zz - k(3) * xx - k(3) * yy);
+  basis[13] = k(kShC3[4]) * x * (k(4) * zz - xx - yy);
+  basis[14] = k(kShC3[5]) * z * (xx - yy);
+  basis[15] = k(kShC3[6]) * x * (xx - k(3) * yy);
+}
+
+template <class T>
+inline void sh_basis(int degree, const glm::vec<3, T>& dir, T* basis) {
+  sh_basis_xyz(degree, dir.x, dir.y, dir.z, basis);
 }
 
 // Σₖ coeffs[k] · Yₖ(dir) per channel; `coeffs` is [K, 3] with K >= (degree+1)^2.
@@ -46,11 +62,13 @@ template <class T>
 inline glm::vec<3, T> sh_evaluate(int degree, const T* coeffs, const glm::vec<3, T>& dir) {
   T basis[16];
   sh_basis(degree, dir, basis);
-  glm::vec<3, T> sum(T(0));
+  // Channel by channel, in the order the projection's SIMD colour pass sums (the same
+  // result, lane for lane).
+  T sum[3] = {T(0), T(0), T(0)};
   const int count = (degree + 1) * (degree + 1);
   for (int k = 0; k < count; ++k)
-    sum += basis[k] * glm::vec<3, T>(coeffs[3 * k], coeffs[3 * k + 1], coeffs[3 * k + 2]);
-  return sum;
+    for (int c = 0; c < 3; ++c) sum[c] += basis[k] * coeffs[3 * k + c];
+  return {sum[0], sum[1], sum[2]};
 }
 
 // Backward of sh_basis: v_dir = Σₖ v_basis[k] ∂Yₖ/∂dir (dir treated as free, not unit;

@@ -1,0 +1,38 @@
+// The SIMD helpers that are more than one operator.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "splat/core/simd.hpp"
+
+namespace splat {
+namespace {
+
+using simd::f32v;
+using simd::kLanes;
+
+TEST(Simd, MinAndMaxAreTheConditionalExpressionsLaneByLane) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float a_values[kLanes] = {1.0f, -2.0f, nan, 3.0f, 0.0f, -0.0f, 5.0f, nan};
+  const float b_values[kLanes] = {2.0f, -3.0f, 1.0f, nan, -0.0f, 0.0f, 5.0f, nan};
+  f32v a, b;
+  for (int i = 0; i < kLanes; ++i) a[i] = a_values[i], b[i] = b_values[i];
+  const f32v lo = simd::min(a, b), hi = simd::max(a, b);
+  for (int i = 0; i < kLanes; ++i) {
+    const float want_lo = a[i] < b[i] ? a[i] : b[i], want_hi = a[i] > b[i] ? a[i] : b[i];
+    EXPECT_EQ(std::isnan(lo[i]), std::isnan(want_lo)) << i;
+    EXPECT_EQ(std::isnan(hi[i]), std::isnan(want_hi)) << i;
+    if (!std::isnan(want_lo)) {
+      EXPECT_EQ(lo[i], want_lo) << i;
+      EXPECT_EQ(std::signbit(lo[i]), std::signbit(want_lo)) << i;
+    }
+    if (!std::isnan(want_hi)) {
+      EXPECT_EQ(hi[i], want_hi) << i;
+      EXPECT_EQ(std::signbit(hi[i]), std::signbit(want_hi)) << i;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace splat
