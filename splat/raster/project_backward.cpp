@@ -38,6 +38,13 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
       grads.opacity_logits[i] = 0.0f;
       viewspace_grad_norm[i] = 0.0f;
       blend_weight[i] = 0.0f;
+      // A Gaussian's records lie in its tiles' lists, far apart: fetch those of a Gaussian a
+      // few ahead so the gather below finds them in cache.
+      constexpr std::size_t kPrefetchAhead = 4;
+      if (i + kPrefetchAhead < range.end())
+        for (std::uint32_t j = bins.overlap_start[i + kPrefetchAhead];
+             j < bins.overlap_start[i + kPrefetchAhead + 1]; ++j)
+          __builtin_prefetch(&overlap_grads[bins.overlap_position[j]]);
       const std::uint32_t first = bins.overlap_start[i], last = bins.overlap_start[i + 1];
       if (first == last) continue;
 
