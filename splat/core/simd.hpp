@@ -100,6 +100,36 @@ inline f32v max(f32v a, f32v b) {
 #endif
 }
 
+// rows[i][j] becomes rows[j][i] (an 8 × 8 transpose in three rounds of two-vector shuffles).
+inline void transpose(f32v rows[kLanes]) {
+  static_assert(kLanes == 8, "an 8 x 8 transpose");
+  f32v t[8], u[8];
+  for (int i = 0; i < 8; i += 2) {
+    t[i] = __builtin_shufflevector(rows[i], rows[i + 1], 0, 8, 1, 9, 4, 12, 5, 13);
+    t[i + 1] = __builtin_shufflevector(rows[i], rows[i + 1], 2, 10, 3, 11, 6, 14, 7, 15);
+  }
+  for (int i = 0; i < 8; i += 4)
+    for (int h = 0; h < 2; ++h) {
+      u[i + 2 * h] = __builtin_shufflevector(t[i + h], t[i + h + 2], 0, 1, 8, 9, 4, 5, 12, 13);
+      u[i + 2 * h + 1] = __builtin_shufflevector(t[i + h], t[i + h + 2], 2, 3, 10, 11, 6, 7, 14, 15);
+    }
+  for (int j = 0; j < 4; ++j) {
+    rows[j] = __builtin_shufflevector(u[j], u[j + 4], 0, 1, 2, 3, 8, 9, 10, 11);
+    rows[j + 4] = __builtin_shufflevector(u[j], u[j + 4], 4, 5, 6, 7, 12, 13, 14, 15);
+  }
+}
+
+// reduce_add of kLanes vectors at once: lane i of the result is reduce_add(v[i]), summed in
+// the same order (so bit for bit the same), by a transpose and kLanes − 1 vector additions.
+inline f32v reduce_add_each(const f32v v[kLanes]) {
+  f32v t[kLanes];
+  for (int i = 0; i < kLanes; ++i) t[i] = v[i];
+  transpose(t);
+  f32v sum = t[0];
+  for (int i = 1; i < kLanes; ++i) sum += t[i];
+  return sum;
+}
+
 // e^x for x <= 0, relative error below 2e-7 (a few ulp), flushing to 0 below -87.
 // Cody-Waite range reduction x = n ln2 + r, |r| <= ln2/2, then a degree-6 Taylor-like
 // minimax polynomial for e^r; 2^n is built in the exponent bits. Deterministic on every

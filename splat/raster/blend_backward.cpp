@@ -32,11 +32,11 @@ struct GradAccum {
   f32v mean_x{}, mean_y{}, conic_a{}, conic_b{}, conic_c{}, opacity{}, color[3]{}, weight{};
 
   Splat2DGrad reduce() const {
-    using simd::reduce_add;
-    return {reduce_add(mean_x),   reduce_add(mean_y),   reduce_add(conic_a),
-            reduce_add(conic_b),  reduce_add(conic_c),  reduce_add(opacity),
-            {reduce_add(color[0]), reduce_add(color[1]), reduce_add(color[2])},
-            reduce_add(weight)};
+    // Eight of the sums at once; each in reduce_add's lane order.
+    const f32v first[kLanes] = {mean_x, mean_y, conic_a, conic_b, conic_c, opacity, color[0], color[1]};
+    const f32v sums = simd::reduce_add_each(first);
+    return {sums[0], sums[1], sums[2], sums[3], sums[4], sums[5],
+            {sums[6], sums[7], simd::reduce_add(color[2])}, simd::reduce_add(weight)};
   }
 };
 
@@ -88,9 +88,18 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
 
   for (int k = max_count - 1; k >= 0; --k) {
     const std::uint32_t position = list_begin + std::uint32_t(k);
-    if (k >= 4) __builtin_prefetch(&projected.splats[bins.gaussian_ids[position - 4]]);
+    // The list is in depth order, not memory order: fetch records (both cache lines a record
+    // may straddle) some steps ahead.
+    constexpr int kPrefetchDistance = 16;
+    if (k >= kPrefetchDistance) {
+      const char* ahead = reinterpret_cast<const char*>(
+          &projected.splats[bins.gaussian_ids[position - kPrefetchDistance]]);
+      __builtin_prefetch(ahead);
+      __builtin_prefetch(ahead + sizeof(Splat2D) - 1);
+    }
     const Splat2D& s = projected.splats[bins.gaussian_ids[position]];
     GradAccum acc;
+    bool blended_any = false;
     // The same pixels as the forward pass (outside them nothing was blended).
     const Footprint box = footprint_in_tile(s, x0, y0);
     if (!box.empty()) {
@@ -113,6 +122,7 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
           const f32v gaussian = a.gaussian, raw_alpha = a.raw, alpha = a.alpha;
           const i32v blended = in_list & draws(power, alpha);
           if (!simd::any(blended)) continue;
+          blended_any = true;
 
           f32v v_alpha, v_rgb[3];
           acc.weight += composite_step_vjp(state.reverse[chunk], blended, alpha, red, green, blue,
@@ -134,7 +144,8 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
         }
       }
     }
-    overlap_grads[position] = acc.reduce();
+    // Sums of nothing are +0, as the reduction of untouched accumulators would give.
+    overlap_grads[position] = blended_any ? acc.reduce() : Splat2DGrad{};
   }
 }
 

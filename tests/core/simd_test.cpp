@@ -12,6 +12,24 @@ namespace {
 using simd::f32v;
 using simd::kLanes;
 
+TEST(Simd, TransposeSwapsRowsAndColumns) {
+  f32v rows[kLanes];
+  for (int i = 0; i < kLanes; ++i)
+    for (int j = 0; j < kLanes; ++j) rows[i][j] = float(10 * i + j);
+  simd::transpose(rows);
+  for (int i = 0; i < kLanes; ++i)
+    for (int j = 0; j < kLanes; ++j) EXPECT_EQ(rows[i][j], float(10 * j + i)) << i << ", " << j;
+}
+
+TEST(Simd, ReduceAddEachSumsInReduceAddsOrder) {
+  // Values whose sum depends on the order of the additions.
+  f32v v[kLanes];
+  for (int i = 0; i < kLanes; ++i)
+    for (int j = 0; j < kLanes; ++j) v[i][j] = (j % 2 ? 1e8f : 1.0f) * float(1 + (i * 7 + j * 3) % 11) * (j % 3 ? 1.0f : -1.0f);
+  const f32v sums = simd::reduce_add_each(v);
+  for (int i = 0; i < kLanes; ++i) EXPECT_EQ(sums[i], simd::reduce_add(v[i])) << i;
+}
+
 TEST(Simd, MinAndMaxAreTheConditionalExpressionsLaneByLane) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float a_values[kLanes] = {1.0f, -2.0f, nan, 3.0f, 0.0f, -0.0f, 5.0f, nan};
