@@ -16,8 +16,9 @@ namespace {
 
 constexpr int kRadixBits = 11;
 constexpr std::uint32_t kRadixBuckets = 1u << kRadixBits;
-// The overlap list is filled by this many chunks of the depth order in parallel. Fixed, not
-// the thread count, so the work split (and so the result) never depends on the machine.
+// The depth sort's passes and the overlap list's fill each split their work into this many
+// fixed parts of the depth order, run in parallel. Fixed, not the thread count, so the work
+// split (and so the result) never depends on the machine.
 constexpr std::size_t kFillChunks = 8;
 
 // Positive IEEE floats order like their bit patterns; depths are > kNearPlane > 0.
@@ -31,18 +32,36 @@ std::uint32_t depth_key(float depth) {
 
 void radix_sort_by_high_word(std::vector<std::uint64_t>& items, std::vector<std::uint64_t>& scratch) {
   scratch.resize(items.size());
+  // Each pass counts and scatters kFillChunks fixed parts of the items in parallel; part p's
+  // items go after those of parts < p within every bucket, so the sort stays stable and the
+  // result does not depend on the thread count.
+  const std::size_t part_size = (items.size() + kFillChunks - 1) / kFillChunks;
+  std::vector<std::array<std::uint32_t, kRadixBuckets>> offsets(kFillChunks);
   for (int shift = 32; shift < 64; shift += kRadixBits) {
-    std::array<std::uint32_t, kRadixBuckets> offsets{};
-    for (std::uint64_t item : items) ++offsets[(item >> shift) & (kRadixBuckets - 1)];
+    auto digit = [shift](std::uint64_t item) { return (item >> shift) & (kRadixBuckets - 1); };
+    tbb::parallel_for(std::size_t(0), kFillChunks, [&](std::size_t part) {
+      offsets[part].fill(0);
+      const std::size_t end = std::min(items.size(), (part + 1) * part_size);
+      for (std::size_t k = part * part_size; k < end; ++k) ++offsets[part][digit(items[k])];
+    });
     // A digit every item shares (the top bits of depths in one octave) needs no pass.
-    if (!items.empty() && offsets[(items[0] >> shift) & (kRadixBuckets - 1)] == items.size()) continue;
-    std::uint32_t sum = 0;
-    for (auto& o : offsets) {
-      const std::uint32_t c = o;
-      o = sum;
-      sum += c;
+    if (!items.empty()) {
+      std::uint64_t with_first_digit = 0;
+      for (const auto& part : offsets) with_first_digit += part[digit(items[0])];
+      if (with_first_digit == items.size()) continue;
     }
-    for (std::uint64_t item : items) scratch[offsets[(item >> shift) & (kRadixBuckets - 1)]++] = item;
+    std::uint32_t sum = 0;
+    for (std::uint32_t bucket = 0; bucket < kRadixBuckets; ++bucket)
+      for (auto& part : offsets) {
+        const std::uint32_t c = part[bucket];
+        part[bucket] = sum;
+        sum += c;
+      }
+    tbb::parallel_for(std::size_t(0), kFillChunks, [&](std::size_t part) {
+      auto& next = offsets[part];
+      const std::size_t end = std::min(items.size(), (part + 1) * part_size);
+      for (std::size_t k = part * part_size; k < end; ++k) scratch[next[digit(items[k])]++] = items[k];
+    });
     items.swap(scratch);
   }
 }
