@@ -72,21 +72,43 @@ void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, Til
 
   // 1. Gaussians that touch a tile, sorted front to back (ties keep index order): (depth
   //    key, id) pairs sorted by key, read in order rather than through the ids.
+  //    The pairs and each Gaussian's first slot in the inverse map (overlap_start) are
+  //    written by kFillChunks parts of the index range in parallel, each at offsets counted
+  //    first, so both are the same as from one sequential pass.
+  const std::size_t part_size = (n + kFillChunks - 1) / kFillChunks;
+  std::array<std::uint64_t, kFillChunks + 1> visible_before{}, overlaps_before{};
+  tbb::parallel_for(std::size_t(0), kFillChunks, [&](std::size_t part) {
+    std::uint64_t visible = 0, overlaps = 0;
+    for (std::size_t i = part * part_size; i < std::min(n, (part + 1) * part_size); ++i) {
+      const std::int64_t count = projected.tiles[i].count();
+      visible += count > 0;
+      overlaps += std::uint64_t(count);
+    }
+    visible_before[part + 1] = visible;
+    overlaps_before[part + 1] = overlaps;
+  });
+  for (std::size_t part = 0; part < kFillChunks; ++part) {
+    visible_before[part + 1] += visible_before[part];
+    overlaps_before[part + 1] += overlaps_before[part];
+  }
   std::vector<std::uint64_t>& pairs = bins.depth_pairs;
-  pairs.clear();
-  for (std::size_t i = 0; i < n; ++i)
-    if (projected.tiles[i].count() > 0)
-      pairs.push_back(std::uint64_t(depth_key(projected.splats[i].depth)) << 32 | i);
+  pairs.resize(visible_before[kFillChunks]);
+  bins.overlap_start.resize(n + 1);
+  bins.overlap_start[0] = 0;
+  tbb::parallel_for(std::size_t(0), kFillChunks, [&](std::size_t part) {
+    std::size_t next = visible_before[part];
+    std::uint64_t slot = overlaps_before[part];
+    for (std::size_t i = part * part_size; i < std::min(n, (part + 1) * part_size); ++i) {
+      const std::int64_t count = projected.tiles[i].count();
+      if (count > 0) pairs[next++] = std::uint64_t(depth_key(projected.splats[i].depth)) << 32 | i;
+      slot += std::uint64_t(count);
+      bins.overlap_start[i + 1] = std::uint32_t(slot);  // > 32 bits is an error below
+    }
+  });
   radix_sort_by_high_word(pairs, bins.sort_scratch);
   std::vector<std::uint32_t>& order = bins.depth_order;
   order.resize(pairs.size());
   for (std::size_t k = 0; k < pairs.size(); ++k) order[k] = std::uint32_t(pairs[k]);
-
-  // Each Gaussian's first slot in the inverse map.
-  bins.overlap_start.resize(n + 1);
-  bins.overlap_start[0] = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    bins.overlap_start[i + 1] = bins.overlap_start[i] + std::uint32_t(projected.tiles[i].count());
 
   // 2. The rectangles and first slots in depth order, gathered once: the passes below then
   //    read them in order instead of missing the cache on every Gaussian twice.
