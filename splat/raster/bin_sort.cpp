@@ -16,9 +16,9 @@ namespace {
 
 constexpr int kRadixBits = 11;
 constexpr std::uint32_t kRadixBuckets = 1u << kRadixBits;
-// The depth sort's passes and the overlap list's fill each split their work into this many
-// fixed parts of the depth order, run in parallel. Fixed, not the thread count, so the work
-// split (and so the result) never depends on the machine.
+// Binning's parallel passes (building the pairs, the depth sort's passes, counting and
+// filling the overlap lists) each split their items into this many fixed parts. Fixed, not
+// the thread count, so the work split (and so the result) never depends on the machine.
 constexpr std::size_t kFillChunks = 8;
 
 // Positive IEEE floats order like their bit patterns; depths are > kNearPlane > 0.
