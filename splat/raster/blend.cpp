@@ -98,15 +98,9 @@ std::uint32_t chunks_to_walk(const Splat2D& s, int x0, int y0) {
 void fill_batch(const ProjectedGaussians& projected, const TileBins& bins, std::uint32_t k,
                 std::uint32_t list_begin, int x0, int y0, std::uint32_t live, TileBatch& batch) {
   for (int j = 0; j < batch.size; ++j) {
-    // The list is in depth order, not memory order: fetch records (both cache lines a
-    // record may straddle) some steps ahead.
-    constexpr int kPrefetchDistance = 16;
-    if (k + j + kPrefetchDistance < bins.tile_start.back()) {
-      const std::uint32_t id = bins.gaussian_ids[k + j + kPrefetchDistance];
-      const char* ahead = reinterpret_cast<const char*>(&projected.splats[id]);
-      __builtin_prefetch(ahead);
-      __builtin_prefetch(ahead + sizeof(Splat2D) - 1);
-    }
+    constexpr std::uint32_t kPrefetchDistance = 16;
+    if (k + j + kPrefetchDistance < bins.gaussian_ids.size())
+      prefetch_splat(projected.splats[bins.gaussian_ids[k + j + kPrefetchDistance]]);
     const Splat2D& s = projected.splats[bins.gaussian_ids[k + j]];
     batch.splat[j] = &s;
     batch.position[j] = std::int32_t(k + j - list_begin + 1);

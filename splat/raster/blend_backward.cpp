@@ -88,15 +88,9 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
 
   for (int k = max_count - 1; k >= 0; --k) {
     const std::uint32_t position = list_begin + std::uint32_t(k);
-    // The list is in depth order, not memory order: fetch records (both cache lines a record
-    // may straddle) some steps ahead.
     constexpr int kPrefetchDistance = 16;
-    if (k >= kPrefetchDistance) {
-      const char* ahead = reinterpret_cast<const char*>(
-          &projected.splats[bins.gaussian_ids[position - kPrefetchDistance]]);
-      __builtin_prefetch(ahead);
-      __builtin_prefetch(ahead + sizeof(Splat2D) - 1);
-    }
+    if (k >= kPrefetchDistance)
+      prefetch_splat(projected.splats[bins.gaussian_ids[position - kPrefetchDistance]]);
     const Splat2D& s = projected.splats[bins.gaussian_ids[position]];
     GradAccum acc;
     bool blended_any = false;

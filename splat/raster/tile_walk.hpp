@@ -93,6 +93,14 @@ inline std::uint32_t rows_to_walk(const Splat2D& s, const SplatReach& reach, int
   return rows;
 }
 
+// Tile lists are in depth order, not memory order: the walks fetch splat records some
+// entries ahead, both cache lines a 52-byte record may straddle.
+inline void prefetch_splat(const Splat2D& s) {
+  const char* bytes = reinterpret_cast<const char*>(&s);
+  __builtin_prefetch(bytes);
+  __builtin_prefetch(bytes + sizeof(Splat2D) - 1);
+}
+
 // Bit i of `bits` (i < 16) to bit 2i: a chunk column's row mask to its chunks' bits.
 inline std::uint32_t spread_to_even_bits(std::uint32_t bits) {
 #if defined(__BMI2__)

@@ -87,9 +87,9 @@ GroupLearningRates SplatTrainer::learning_rates() const {
                                  config_.position_lr_max_steps};
   GroupLearningRates lr;
   // The official evaluates it at the 1-based iteration.
-  lr.means = float(position.at_fraction(schedule_iteration(iteration_ + 1) /
-                                        double(config_.position_lr_max_steps)));
-  const float appearance = appearance_lr_factor(config_, schedule_iteration(iteration_ + 1));
+  const double iteration = schedule_iteration(iteration_ + 1);
+  lr.means = float(position.at_fraction(iteration / double(config_.position_lr_max_steps)));
+  const float appearance = appearance_lr_factor(config_, iteration);
   lr.sh_dc = config_.sh_dc_lr * appearance;
   lr.sh_rest = config_.sh_rest_lr * appearance;
   lr.opacity = config_.opacity_lr * appearance;

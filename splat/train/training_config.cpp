@@ -1,10 +1,10 @@
 #include "splat/train/training_config.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <string>
 
 #include "splat/core/error.hpp"
+#include "splat/optim/lr_schedule.hpp"
 
 namespace splat {
 
@@ -80,8 +80,8 @@ float appearance_lr_factor(const SplatTrainingConfig& config, double iteration) 
   if (config.appearance_lr_final_factor == 1.0f) return 1.0f;
   const double from = config.appearance_lr_decay_from;
   const double span = std::max(1.0, double(config.position_lr_max_steps) - from);
-  const double t = std::clamp((iteration - from) / span, 0.0, 1.0);
-  return float(std::pow(double(config.appearance_lr_final_factor), t));
+  const ExponentialLrSchedule decay{1.0, config.appearance_lr_final_factor, 1};
+  return float(decay.at_fraction((iteration - from) / span));
 }
 
 SplatTrainingConfig splat_training_preset(const std::string& strategy) {
