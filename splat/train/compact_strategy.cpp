@@ -114,7 +114,7 @@ DensityStepReport CompactStrategy::step_post_backward(int iteration, bool last_i
   report.count_after = n;
   if (last_iteration) return report;
   const CompactSettings& s = settings_;
-  const int phase = std::max(iteration, state.schedule_iteration);
+  const int phase = state.schedule_iteration > 0 ? state.schedule_iteration : iteration;
   if (iteration > s.grow_from && phase <= s.grow_until && iteration % s.grow_interval == 0)
     grow(iteration, state, report);
   if (s.prune_weight > 0 && iteration >= s.grow_from && phase <= s.prune_until &&

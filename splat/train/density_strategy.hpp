@@ -33,10 +33,9 @@ struct TrainingState {
   AdamState& adam;
   std::mt19937& rng;  // the trainer's one random stream (view order, splits, ...)
   float scene_extent;
-  // Where the run stands in the schedule's terms: the iteration, or further along when a time
-  // budget is running out first (SplatTrainingConfig::schedule_follows_time_budget). Phases
-  // (grow until, prune until) compare with it; intervals count real iterations. 0 = the
-  // iteration itself.
+  // Where the run stands in the schedule's terms: the iteration, or scaled to the run's
+  // budget (SplatTrainingConfig::schedule_follows_budget). Phases (grow until, prune until)
+  // compare with it; intervals count real iterations. 0 = the iteration itself.
   int schedule_iteration = 0;
 };
 

@@ -45,6 +45,8 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
       model_(initial_model(dataset, config)),
       rng_(config.seed) {
   if (dataset.train.empty()) throw ArgumentError("training needs at least one training view");
+  if (config_.schedule_iterations < 0) throw ArgumentError("schedule_iterations must be >= 0");
+  if (config_.schedule_iterations == 0) config_.schedule_iterations = config_.iterations;
   config_.density.white_background =
       config.background[0] == 1.0f && config.background[1] == 1.0f && config.background[2] == 1.0f;
   strategy_ = make_density_strategy(config_, dataset.train.size(), model_.size());
@@ -77,8 +79,7 @@ const Image& SplatTrainer::training_image(std::size_t view, int divisor) {
 }
 
 double SplatTrainer::schedule_iteration(int iteration) const {
-  if (!config_.schedule_follows_time_budget) return iteration;
-  return std::max(double(iteration), time_budget_fraction_ * double(config_.position_lr_max_steps));
+  return splat::schedule_iteration(config_, iteration, time_budget_fraction_);
 }
 
 GroupLearningRates SplatTrainer::learning_rates() const {

@@ -113,7 +113,8 @@ class SplatTrainer {
   const Image& training_image(std::size_t view, int divisor);
   GroupLearningRates learning_rates() const;
   // How far the run's schedules (position step, growth and pruning phases) have advanced, in
-  // iterations: `iteration` itself, or under schedule_follows_time_budget the spent fraction
+  // the schedule's iterations: `iteration` itself, or under schedule_follows_budget the
+  // iteration scaled from schedule_iterations to position_lr_max_steps, or the spent fraction
   // of the time budget × position_lr_max_steps when that is further along.
   double schedule_iteration(int iteration) const;
 

@@ -27,12 +27,20 @@ struct SplatTrainingConfig {
   // Learning rates (the position one is scaled by the scene extent and decays exponentially).
   double position_lr_init = 1.6e-4, position_lr_final = 1.6e-6;
   int position_lr_max_steps = 30000;
-  // With a time budget (--max-seconds), the schedules also follow the fraction of the budget
-  // spent: the position step and the density strategy's phases (growth, pruning) act at
-  // whichever of iterations and time is further along, the fraction f of the budget counting
-  // as iteration f × position_lr_max_steps. A short run then stops growing in time to settle
-  // and ends refined instead of stopped mid-move.
-  bool schedule_follows_time_budget = false;
+  // The schedules (the position step, the density strategy's phases, the appearance decay
+  // below) are written for a run of position_lr_max_steps iterations. With
+  // schedule_follows_budget they span the run's budget instead, whatever its length:
+  // iteration i of a run of schedule_iterations counts as i × position_lr_max_steps /
+  // schedule_iterations, and under a time budget (--max-seconds) the fraction f of it spent
+  // counts as f × position_lr_max_steps when that is further along. Every run then ends with
+  // its schedule complete (growth stopped in time to settle, the steps decayed) instead of
+  // cut off mid-move. Intervals (growth every 100 iterations, SH bands every 1,000) stay in
+  // real iterations.
+  bool schedule_follows_budget = false;
+  // The iterations the schedule spans: 0 = the run's `iterations` when it starts. The trainer
+  // records the value it uses, so a resumed run keeps its schedule even when --iters extends
+  // it; set it above --iters to run only the first part of a longer schedule.
+  int schedule_iterations = 0;
   float sh_dc_lr = 2.5e-3f, sh_rest_lr = 2.5e-3f / 20.0f;
   float opacity_lr = 0.05f, scale_lr = 5e-3f, rotation_lr = 1e-3f;
   // The other groups' rates (SH, opacity, scale, rotation) are constant in the official
@@ -60,6 +68,11 @@ struct SplatTrainingConfig {
 // `iteration`: 1 before appearance_lr_decay_from, appearance_lr_final_factor from
 // position_lr_max_steps on, log-linear in between.
 float appearance_lr_factor(const SplatTrainingConfig& config, double iteration);
+
+// Where (1-based) iteration `iteration` stands in the schedule's terms, with
+// `time_budget_fraction` of a time budget spent (0 without one): the iteration itself, or
+// scaled to the run's budget under schedule_follows_budget (see there).
+double schedule_iteration(const SplatTrainingConfig& config, int iteration, double time_budget_fraction);
 
 // The strategies splat-train knows, in the order the help lists them.
 inline const char* const kSplatStrategies[] = {"compact", "official"};

@@ -26,11 +26,13 @@ fs::path tiny_dataset() {
     const fs::path d = test::scratch_dir("train_cli_dataset_" + test_name);
     test::write_demo_dataset(d, 12, 3, 64, 3000);
     // Small settings so the run takes about a second but still densifies and resets
-    // (official), or warms up at half size, grows and prunes (compact, the default).
+    // (official), or warms up at half size, grows and prunes (compact, the default). The
+    // schedule is not fitted to these short runs (a position step decayed within a few
+    // hundred iterations leaves the random start where it is).
     test::write_text(d / "tiny_config.json", R"({"random_init_points": 4000, "densify_from_iter": 100,
       "densification_interval": 50, "opacity_reset_interval": 200, "densify_until_iter": 250,
       "compact_warmup_until": 60, "compact_grow_from": 100, "compact_grow_interval": 50,
-      "compact_grow_until": 250, "compact_prune_window": 50})");
+      "compact_grow_until": 250, "compact_prune_window": 50, "schedule_follows_budget": false})");
     return d;
   }();
   return dir;
@@ -122,6 +124,25 @@ TEST(TrainCli, ResumeContinuesExactly) {
     EXPECT_TRUE(test::read_file(dir / "straight" / "model.ply") == test::read_file(dir / "split" / "model.ply"))
         << strategy << ": the resumed run's model differs from the uninterrupted run's";
   }
+}
+
+// Without a span in the config, the schedule spans the run's --iters, recorded in
+// config.json; extending the run with --resume keeps it (the run goes on at the schedule's end).
+TEST(TrainCli, ScheduleSpansTheRunAndIsKeptOnResume) {
+  const fs::path dir = test::scratch_dir("train_cli_schedule_span");
+  nlohmann::json config = read_json(tiny_dataset() / "tiny_config.json");
+  config["schedule_follows_budget"] = true;
+  test::write_text(dir / "config.json", config.dump());
+  const std::string base = std::string(SPLAT_TRAIN_EXE) + " --data " + tiny_dataset().string() + " --out " +
+                           (dir / "out").string() + " --config " + (dir / "config.json").string() + " --quiet ";
+  auto r = test::run_command(base + "--iters 60 --checkpoint-every 60", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_json(dir / "out" / "config.json").at("schedule_iterations"), 60);
+  r = test::run_command(base + "--iters 90 --resume " + (dir / "out").string(), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json resumed = read_json(dir / "out" / "config.json");
+  EXPECT_EQ(resumed.at("schedule_iterations"), 60);
+  EXPECT_EQ(resumed.at("iterations"), 90);
 }
 
 // Both strategies for the same iterations on the tiny scene, their schedules scaled down
