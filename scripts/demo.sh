@@ -11,7 +11,7 @@ cmake --build build -j "$(nproc)"
 out="out/demo"
 build/scenes/splat-scene render scenes/default.json --out "$out/dataset"
 # 3,000 iterations: about 34 dB on the test views in under two minutes of training
-# (scenes/README.md); the full schedule is splat-train's default of 30,000.
+# (scenes/README.md); the full schedule is splat-train's default of 50,000.
 build/train/splat-train --data "$out/dataset" --out "$out/train" --iters 3000
 echo "dataset: $(pwd)/$out/dataset"
 echo "trained model: $(pwd)/$out/train/model.ply (open it in any 3DGS viewer)"

@@ -25,7 +25,7 @@ DIR/test/<view>.png, DIR/config.json and DIR/checkpoint.ckpt.
                         density control of the splats: compact (default) grows the model
                         only while it pays and prunes what contributes nothing; official
                         is the official 3DGS recipe, bit for bit
-  --iters N             iterations (default 30000 splat, 20000 nerf)
+  --iters N             iterations (default 50000 compact, 30000 official, 20000 nerf)
   --max-seconds S       stop after S seconds of wall time (whichever limit comes first)
   --bg white|black      background the RGBA images are composited onto (default white)
   --seed N              random seed (default 0); results do not depend on --threads
