@@ -102,8 +102,8 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
     config.random_init_points = 30000;
     // A run of any length, cut by --iters or --max-seconds, stops growing half-way and ends
     // with the steps decayed, refining rather than still moving. The default length is
-    // 50,000 iterations: stretched from the official 30,000, the same phases are worth
-    // about +0.3 dB on lego400 at the same count (bench/README.md, issue 13).
+    // 50,000 iterations: stretched from the official 30,000, the same phases gave lego400
+    // +0.33 dB with 5 % more Gaussians (bench/README.md, issue 13).
     config.schedule_follows_budget = true;
     config.iterations = 50000;
     config.position_lr_max_steps = 50000;
