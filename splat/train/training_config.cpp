@@ -104,18 +104,19 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
     // with the steps decayed, refining rather than still moving. The default length is
     // 50,000 iterations: stretched from the official 30,000, the same phases gave lego400
     // +0.33 dB with 5 % more Gaussians (bench/README.md, issue 13).
+    constexpr int kLength = 50000;  // every phase below is a fraction of it
     config.schedule_follows_budget = true;
-    config.iterations = 50000;
-    config.position_lr_max_steps = 50000;
+    config.iterations = kLength;
+    config.position_lr_max_steps = kLength;
     // The SH, opacity, scale and rotation rates decay to a tenth over the second half, so
     // the run settles instead of jittering by a few hundredths of a dB to the end.
     config.appearance_lr_final_factor = 0.1f;
-    config.appearance_lr_decay_from = 25000;
+    config.appearance_lr_decay_from = kLength / 2;
     CompactSettings& c = config.compact;
     c.warmup_divisor = 2;
     c.warmup_until = 1500;
     c.grow_max_fraction = 1.0;
-    c.grow_until = 25000;
+    c.grow_until = kLength / 2;
     // Growth at a lower gradient threshold than the official, with opacity resets every
     // 3,000 iterations while growing: more candidates, and what they add in vain fades and
     // is pruned (lego400: +0.05 dB at the same count, bench/README.md).
@@ -126,7 +127,7 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
     // on the summed weight removes) and removes more of the faint haze (scenes/README.md).
     c.prune_by_peak_weight = true;
     c.prune_weight = 0.2f;
-    c.prune_until = 42000;
+    c.prune_until = kLength * 84 / 100;
     return config;
   }
   std::string known;
