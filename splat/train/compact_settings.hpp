@@ -36,6 +36,10 @@ struct CompactSettings {
   // instead of the sum: a Gaussian drawn strongly in a few views only (a highlight, a
   // silhouette) is kept, one drawn faintly everywhere is not.
   bool prune_by_peak_weight = false;
+  // The threshold once growth has stopped (0 = prune_weight). While the model grows, a strict
+  // threshold removes Gaussians still on their way to a structure (a thin bar is lost early
+  // and not regrown); once it has stopped, what stays faint is haze.
+  float prune_weight_after_growth = 0.0f;
   int prune_window = 0;
   int prune_until = 30000;
 

@@ -119,7 +119,10 @@ DensityStepReport CompactStrategy::step_post_backward(int iteration, bool last_i
     grow(iteration, state, report);
   if (s.prune_weight > 0 && iteration >= s.grow_from && phase <= s.prune_until &&
       iteration % window_ == 0)
-    prune_by_weight(state, report);
+    prune_by_weight(phase > s.grow_until && s.prune_weight_after_growth > 0
+                        ? s.prune_weight_after_growth
+                        : s.prune_weight,
+                    state, report);
   if (iteration % window_ == 0) std::fill(window_weight_.begin(), window_weight_.end(), 0.0f);
   if (s.opacity_reset_interval > 0 && phase <= s.grow_until &&
       iteration % s.opacity_reset_interval == 0) {
@@ -196,12 +199,13 @@ void CompactStrategy::grow(int iteration, TrainingState& state, DensityStepRepor
   if (added > 0) last_growth_iteration_ = iteration;
 }
 
-void CompactStrategy::prune_by_weight(TrainingState& state, DensityStepReport& report) {
+void CompactStrategy::prune_by_weight(float threshold, TrainingState& state,
+                                       DensityStepReport& report) {
   const std::size_t n = state.model.size();
   std::vector<std::uint8_t> keep(n, 1);
   std::size_t pruned = 0;
   for (std::size_t i = 0; i < n; ++i)
-    if (window_weight_[i] < settings_.prune_weight) {
+    if (window_weight_[i] < threshold) {
       keep[i] = 0;
       ++pruned;
     }

@@ -44,7 +44,7 @@ class CompactStrategy final : public DensityStrategy {
  private:
   void add_regularization(const GaussianModel& model, GaussianModel& grads) const;
   void grow(int iteration, TrainingState& state, DensityStepReport& report);
-  void prune_by_weight(TrainingState& state, DensityStepReport& report);
+  void prune_by_weight(float threshold, TrainingState& state, DensityStepReport& report);
   AlignedRows rows(TrainingState& state);
   void reset_stats(std::size_t n);
 

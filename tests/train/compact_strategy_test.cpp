@@ -182,6 +182,34 @@ TEST(CompactStrategy, PruningComparesTheSummedOrThePeakBlendingWeight) {
   }
 }
 
+// Every row is drawn with a peak weight of 2 pixels (even rows) or 4 (odd rows). While the
+// model may grow (to iteration 15) the threshold is 1 and nothing goes; the first window
+// after growth applies the after-growth threshold of 3 and prunes the even rows.
+TEST(CompactStrategy, PruningThresholdRisesOnceGrowthStops) {
+  Fixture f(40);
+  CompactSettings s;
+  s.grow_from = 0;
+  s.grow_until = 15;
+  s.grow_grad_threshold = 1.0f;  // no growth: only pruning is under test
+  s.prune_window = 10;
+  s.prune_weight = 1.0f;
+  s.prune_weight_after_growth = 3.0f;
+  s.prune_by_peak_weight = true;
+  CompactStrategy strategy(s, {}, 10, 0, f.model.size());
+  for (int it = 1; it <= 20; ++it) {
+    GaussianModel grads = f.model;
+    grads.set_zero();
+    TrainingState state = f.state();
+    Stats stats(f.model.size(), 0.0f, 0.0f);
+    for (std::size_t i = 0; i < stats.weight.size(); ++i) stats.weight[i] = i % 2 == 0 ? 2.0f : 4.0f;
+    strategy.step_post_backward(it, false, state, grads, stats.view());
+    if (it == 10) ASSERT_EQ(f.model.size(), 40u) << "pruned while growing";
+  }
+  ASSERT_EQ(f.model.size(), 20u);
+  for (std::size_t r = 0; r < 20; ++r)
+    EXPECT_EQ((int(Fixture::tag(f.model, r)) - 1) % 2, 1) << "row " << r;
+}
+
 // A time budget running out moves the schedule on: at iteration 20 of a run whose budget is
 // as far along as iteration 2,000, growth (until 1,000) has ended.
 TEST(CompactStrategy, GrowthEndsWhenTheScheduleIterationPassesItsLimit) {
