@@ -129,7 +129,7 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
     c.prune_by_peak_weight = true;
     c.prune_weight = 0.2f;
     // Once growth has stopped, 0.3 of a pixel: what is still that faint is haze (scenes/:
-    // 8-24 % fewer Gaussians, thin_structures -0.12 dB, the others within ±0.05; a higher
+    // 7-23 % fewer Gaussians, thin_structures -0.12 dB, the others within ±0.03; a higher
     // threshold cuts the thin wires, whose Gaussians each draw under half a pixel).
     c.prune_weight_after_growth = 0.3f;
     c.prune_until = kLength * 84 / 100;
