@@ -10,7 +10,8 @@
 #               iterations each (default 7000), two runs at a time with one thread each
 #               (iteration-limited, so the pairing does not change the results)
 #   real        the real captures of ../shared/data (BENCHMARKS.md P6), both strategies,
-#               REAL_SECONDS each (default 600) at --downscale REAL_DOWNSCALE (default 2)
+#               REAL_SECONDS each (default 600) at --downscale REAL_DOWNSCALE (default 2);
+#               REAL_STRATEGIES="compact" re-runs one strategy only
 #
 # With no selection it runs them all (about four hours). Then prints the tables:
 #   python3 bench/strategy_tables.py OUT
@@ -25,6 +26,7 @@ train=build/train/splat-train
 scene_iters=${SCENE_ITERS:-7000}
 real_seconds=${REAL_SECONDS:-600}
 real_downscale=${REAL_DOWNSCALE:-2}
+read -r -a real_strategies <<< "${REAL_STRATEGIES:-compact official}"
 mkdir -p "$out"
 
 run() {  # run NAME ARGS...: one splat-train into OUT/NAME, its output kept in OUT/NAME.log
@@ -61,7 +63,7 @@ for job in "${selection[@]}"; do
     scenes) scenes ;;
     real)
       for d in real_thermos real_thermos_distorted real_cup; do
-        for strategy in compact official; do
+        for strategy in "${real_strategies[@]}"; do
           run "real-$d-$strategy" --data "$shared/$d" --strategy "$strategy" --max-seconds "$real_seconds" \
             --downscale "$real_downscale" --test-every 1000
         done
