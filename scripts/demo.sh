@@ -10,7 +10,7 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j "$(nproc)"
 out="out/demo"
 build/scenes/splat-scene render scenes/default.json --out "$out/dataset"
-# 7,000 iterations: 35.5 dB on the test views with about 30,000 Gaussians in two to three
+# 7,000 iterations: 35.5 dB on the test views with about 27,000 Gaussians in two to three
 # minutes of training (scenes/README.md). The schedule spans the run, and much shorter runs
 # lose more than their length: 3,000 iterations give 32.8 dB. splat-train's default is 50,000.
 build/train/splat-train --data "$out/dataset" --out "$out/train" --iters 7000
