@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <random>
 #include <vector>
 
@@ -82,15 +83,23 @@ CompactSettings growth_settings() {
   return s;
 }
 
+// Iterations first..last with every row's gradient norm `grad` and blending weight
+// weight_of(row, iteration).
 void run_iterations(CompactStrategy& strategy, Fixture& f, int first, int last, float grad,
-                    float weight) {
+                    const std::function<float(std::size_t, int)>& weight_of) {
   for (int it = first; it <= last; ++it) {
     GaussianModel grads = f.model;
     grads.set_zero();
     TrainingState state = f.state();
-    const Stats stats(f.model.size(), grad, weight);
+    Stats stats(f.model.size(), grad, 0.0f);
+    for (std::size_t i = 0; i < stats.weight.size(); ++i) stats.weight[i] = weight_of(i, it);
     strategy.step_post_backward(it, false, state, grads, stats.view());
   }
+}
+
+void run_iterations(CompactStrategy& strategy, Fixture& f, int first, int last, float grad,
+                    float weight) {
+  run_iterations(strategy, f, first, last, grad, [weight](std::size_t, int) { return weight; });
 }
 
 TEST(CompactStrategy, GrowthNeverExceedsTheGaussianCap) {
@@ -138,14 +147,8 @@ TEST(CompactStrategy, AdamMomentsStayWithTheirRowsThroughGrowthPruningAndRelocat
       const std::size_t after_growth = f.model.size();
       EXPECT_NE(after_growth, 120u);
       // A window in which half the rows make almost nothing visible: they are pruned.
-      for (int it = 11; it <= 20; ++it) {
-        GaussianModel grads = f.model;
-        grads.set_zero();
-        TrainingState state = f.state();
-        Stats stats(f.model.size(), 0.0f, 100.0f);
-        for (std::size_t i = 0; i < stats.weight.size(); i += 2) stats.weight[i] = 0.1f;
-        strategy.step_post_backward(it, false, state, grads, stats.view());
-      }
+      run_iterations(strategy, f, 11, 20, 0.0f,
+                     [](std::size_t i, int) { return i % 2 == 0 ? 0.1f : 100.0f; });
       EXPECT_EQ(f.model.size(), after_growth - (after_growth + 1) / 2)
           << "sampling " << sampling << " relocate " << relocate;
       f.expect_moments_follow_rows();
@@ -165,15 +168,9 @@ TEST(CompactStrategy, PruningComparesTheSummedOrThePeakBlendingWeight) {
     s.prune_weight = peak ? 3.0f : 8.0f;
     s.prune_by_peak_weight = peak;
     CompactStrategy strategy(s, {}, 10, 0, f.model.size());
-    for (int it = 1; it <= 10; ++it) {
-      GaussianModel grads = f.model;
-      grads.set_zero();
-      TrainingState state = f.state();
-      Stats stats(f.model.size(), 0.0f, 0.0f);
-      for (std::size_t i = 0; i < stats.weight.size(); ++i)
-        stats.weight[i] = i % 2 == 0 ? 1.0f : (it == 4 ? 6.0f : 0.0f);
-      strategy.step_post_backward(it, false, state, grads, stats.view());
-    }
+    run_iterations(strategy, f, 1, 10, 0.0f, [](std::size_t i, int it) {
+      return i % 2 == 0 ? 1.0f : (it == 4 ? 6.0f : 0.0f);
+    });
     ASSERT_EQ(f.model.size(), 20u) << (peak ? "peak" : "sum");
     for (std::size_t r = 0; r < 20; ++r) {
       const int original_row = int(Fixture::tag(f.model, r)) - 1;
@@ -196,15 +193,10 @@ TEST(CompactStrategy, PruningThresholdRisesOnceGrowthStops) {
   s.prune_weight_after_growth = 3.0f;
   s.prune_by_peak_weight = true;
   CompactStrategy strategy(s, {}, 10, 0, f.model.size());
-  for (int it = 1; it <= 20; ++it) {
-    GaussianModel grads = f.model;
-    grads.set_zero();
-    TrainingState state = f.state();
-    Stats stats(f.model.size(), 0.0f, 0.0f);
-    for (std::size_t i = 0; i < stats.weight.size(); ++i) stats.weight[i] = i % 2 == 0 ? 2.0f : 4.0f;
-    strategy.step_post_backward(it, false, state, grads, stats.view());
-    if (it == 10) ASSERT_EQ(f.model.size(), 40u) << "pruned while growing";
-  }
+  const auto weight_of = [](std::size_t i, int) { return i % 2 == 0 ? 2.0f : 4.0f; };
+  run_iterations(strategy, f, 1, 10, 0.0f, weight_of);
+  ASSERT_EQ(f.model.size(), 40u) << "pruned while growing";
+  run_iterations(strategy, f, 11, 20, 0.0f, weight_of);
   ASSERT_EQ(f.model.size(), 20u);
   for (std::size_t r = 0; r < 20; ++r)
     EXPECT_EQ((int(Fixture::tag(f.model, r)) - 1) % 2, 1) << "row " << r;
