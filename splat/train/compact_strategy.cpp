@@ -117,12 +117,12 @@ DensityStepReport CompactStrategy::step_post_backward(int iteration, bool last_i
   const int phase = state.schedule_iteration > 0 ? state.schedule_iteration : iteration;
   if (iteration > s.grow_from && phase <= s.grow_until && iteration % s.grow_interval == 0)
     grow(iteration, state, report);
-  if (s.prune_weight > 0 && iteration >= s.grow_from && phase <= s.prune_until &&
+  const float prune_threshold = phase > s.grow_until && s.prune_weight_after_growth > 0
+                                    ? s.prune_weight_after_growth
+                                    : s.prune_weight;
+  if (prune_threshold > 0 && iteration >= s.grow_from && phase <= s.prune_until &&
       iteration % window_ == 0)
-    prune_by_weight(phase > s.grow_until && s.prune_weight_after_growth > 0
-                        ? s.prune_weight_after_growth
-                        : s.prune_weight,
-                    state, report);
+    prune_by_weight(prune_threshold, state, report);
   if (iteration % window_ == 0) std::fill(window_weight_.begin(), window_weight_.end(), 0.0f);
   if (s.opacity_reset_interval > 0 && phase <= s.grow_until &&
       iteration % s.opacity_reset_interval == 0) {
