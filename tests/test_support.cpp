@@ -5,6 +5,7 @@
 #include <random>
 
 #include "splat/core/error.hpp"
+#include "splat/gaussians/ply_io.hpp"
 
 namespace splat::test {
 
@@ -16,6 +17,13 @@ std::filesystem::path scratch_dir(const std::string& name) {
 }
 
 std::filesystem::path shared_dir() { return std::filesystem::path(SPLAT_SHARED_DIR); }
+
+ConformanceScene load_conformance(int size) {
+  const auto dir = shared_dir() / "conformance";
+  TransformsOptions options;
+  options.width = options.height = size;
+  return {read_ply(dir / "lego_subset50k.ply"), load_transforms(dir / "transforms_test.json", options)};
+}
 
 void write_text(const std::filesystem::path& file, const std::string& text) {
   std::ofstream out(file, std::ios::binary);

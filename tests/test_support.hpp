@@ -2,9 +2,11 @@
 // Small helpers shared by the tests: scratch folders, random scenes, image comparison.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "splat/core/camera.hpp"
 #include "splat/core/image.hpp"
+#include "splat/data/transforms_json.hpp"
 #include "splat/eval/metrics.hpp"
 #include "splat/gaussians/gaussian_model.hpp"
 
@@ -15,6 +17,13 @@ std::filesystem::path scratch_dir(const std::string& name);
 
 // The shared/ folder (conformance data, datasets).
 std::filesystem::path shared_dir();
+
+// The shared 50k-Gaussian conformance model and its 13 test views at size x size pixels.
+struct ConformanceScene {
+  GaussianModel model;
+  std::vector<CameraFrame> frames;
+};
+ConformanceScene load_conformance(int size);
 
 // Writes `text` to `file` (for hand-made bad inputs).
 void write_text(const std::filesystem::path& file, const std::string& text);

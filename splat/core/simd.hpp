@@ -20,6 +20,7 @@ namespace splat::simd {
 constexpr int kLanes = 8;
 using f32v = float __attribute__((vector_size(4 * kLanes)));
 using i32v = std::int32_t __attribute__((vector_size(4 * kLanes)));  // lanes are 0 or -1
+using f64v = double __attribute__((vector_size(8 * kLanes)));
 
 // Lane-wise choice: where `mask` is set take `a`, else `b`.
 inline f32v select(i32v mask, f32v a, f32v b) { return mask ? a : b; }
@@ -98,6 +99,49 @@ inline f32v max(f32v a, f32v b) {
 #else
   return a > b ? a : b;
 #endif
+}
+
+// Lane-wise sqrt, floor, ceil and fused a·b + c: exactly what std::sqrt, std::floor,
+// std::ceil and std::fma give each lane (IEEE operations, correctly rounded).
+inline f32v sqrt(f32v x) {
+#if defined(__AVX__)
+  return reinterpret_cast<f32v>(_mm256_sqrt_ps(reinterpret_cast<__m256>(x)));
+#else
+  for (int i = 0; i < kLanes; ++i) x[i] = __builtin_sqrtf(x[i]);
+  return x;
+#endif
+}
+inline f32v floor(f32v x) {
+#if defined(__AVX__)
+  return reinterpret_cast<f32v>(_mm256_floor_ps(reinterpret_cast<__m256>(x)));
+#else
+  for (int i = 0; i < kLanes; ++i) x[i] = __builtin_floorf(x[i]);
+  return x;
+#endif
+}
+inline f32v ceil(f32v x) {
+#if defined(__AVX__)
+  return reinterpret_cast<f32v>(_mm256_ceil_ps(reinterpret_cast<__m256>(x)));
+#else
+  for (int i = 0; i < kLanes; ++i) x[i] = __builtin_ceilf(x[i]);
+  return x;
+#endif
+}
+inline f32v fma(f32v a, f32v b, f32v c) {
+#if defined(__FMA__)
+  return reinterpret_cast<f32v>(_mm256_fmadd_ps(reinterpret_cast<__m256>(a), reinterpret_cast<__m256>(b),
+                                                reinterpret_cast<__m256>(c)));
+#else
+  for (int i = 0; i < kLanes; ++i) a[i] = __builtin_fmaf(a[i], b[i], c[i]);
+  return a;
+#endif
+}
+inline f32v abs(f32v x) {  // the sign bit cleared, as std::abs
+  i32v bits;
+  std::memcpy(&bits, &x, sizeof(x));
+  bits &= 0x7fffffff;
+  std::memcpy(&x, &bits, sizeof(x));
+  return x;
 }
 
 // rows[i][j] becomes rows[j][i] (an 8 × 8 transpose in three rounds of two-vector shuffles).

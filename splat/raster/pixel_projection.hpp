@@ -17,6 +17,7 @@
 #include <cmath>
 
 #include "splat/core/camera.hpp"
+#include "splat/core/simd.hpp"
 #include "splat/raster/projection_math.hpp"
 
 namespace splat {
@@ -49,13 +50,29 @@ class PixelProjection {
     return {ndc_to_pixel(x * inv_w, width_), ndc_to_pixel(y * inv_w, height_)};
   }
 
+  // The same for kLanes points at once, each lane rounded exactly as the scalar call.
+  void operator()(simd::f32v x, simd::f32v y, simd::f32v z, simd::f32v& pixel_x,
+                  simd::f32v& pixel_y) const {
+    const simd::f32v inv_w = 1.0f / (row_times(w_row_, x, y, z) + 1e-7f);
+    pixel_x = ndc_to_pixel(row_times(x_row_, x, y, z) * inv_w, width_);
+    pixel_y = ndc_to_pixel(row_times(y_row_, x, y, z) * inv_w, height_);
+  }
+
  private:
   // a·x + b·y + c·z + d as nvcc evaluates it: fma(c, z, fma(a, x, b·y)) + d.
   static float row_times(const float row[4], const glm::vec3& p) {
     return std::fma(row[2], p.z, std::fma(row[0], p.x, row[1] * p.y)) + row[3];
   }
+  static simd::f32v row_times(const float row[4], simd::f32v x, simd::f32v y, simd::f32v z) {
+    using simd::broadcast;
+    return simd::fma(broadcast(row[2]), z, simd::fma(broadcast(row[0]), x, row[1] * y)) + row[3];
+  }
   static float ndc_to_pixel(float ndc, int size) {
     return float(((double(ndc) + 1.0) * size - 1.0) * 0.5);
+  }
+  static simd::f32v ndc_to_pixel(simd::f32v ndc, int size) {
+    const simd::f64v wide = __builtin_convertvector(ndc, simd::f64v);
+    return __builtin_convertvector(((wide + 1.0) * double(size) - 1.0) * 0.5, simd::f32v);
   }
 
   float x_row_[4], y_row_[4], w_row_[4];

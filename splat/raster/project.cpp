@@ -13,27 +13,6 @@ namespace splat {
 
 namespace {
 
-// Tiles that the box |dx| <= ex, |dy| <= ey around (x, y) touches.
-TileRect extent_tile_rect(float x, float y, float ex, float ey, const TileGrid& grid) {
-  auto tile_lo = [](float v, int limit) {
-    return int(std::clamp(std::floor(v / kTileSize), 0.0f, float(limit)));
-  };
-  auto tile_hi = [](float v, int limit) {
-    return int(std::clamp(std::floor(v / kTileSize) + 1.0f, 0.0f, float(limit)));
-  };
-  return {tile_lo(x - ex, grid.tiles_x), tile_lo(y - ey, grid.tiles_y),
-          tile_hi(x + ex, grid.tiles_x), tile_hi(y + ey, grid.tiles_y)};
-}
-
-TileRect intersect(const TileRect& a, const TileRect& b) {
-  TileRect r{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1),
-             std::min(a.y1, b.y1)};
-  if (r.x1 <= r.x0 || r.y1 <= r.y0) r = {0, 0, 0, 0};
-  return r;
-}
-
-float sigmoid(float x) { return 1.0f / (1.0f + std::exp(-x)); }
-
 using simd::f32v;
 using simd::kLanes;
 
@@ -60,6 +39,242 @@ void sh_colors(const GaussianModel& model, std::size_t first, int lanes, int deg
   }
 }
 
+// ---- kLanes Gaussians at a time -------------------------------------------------------
+// The projection below is projection_math.hpp's scalar functions (which the backward pass
+// differentiates) written out for kLanes Gaussians, one per lane, term for term in the same
+// order. One Gaussian at a time it cost ~68 ns per Gaussian and core; this is about half.
+// Pixel position, depth, opacity and culling come out bit for bit as the scalar code's; the
+// covariance sums may round a few ulp apart, where the compiler fuses products into FMAs
+// differently (tests/raster/project_lanes_test.cpp bounds both). exp and log stay libm's, one
+// lane at a time.
+
+using simd::i32v;
+
+// A 3 × 3 matrix per lane, [row][column].
+struct LaneMat3 {
+  f32v m[3][3];
+};
+
+// Row i, column j: a(i,0)·b(0,j) + a(i,1)·b(1,j) + a(i,2)·b(2,j), summed as glm does.
+LaneMat3 multiply(const LaneMat3& a, const LaneMat3& b) {
+  LaneMat3 r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) r.m[i][j] = a.m[i][0] * b.m[0][j] + a.m[i][1] * b.m[1][j] + a.m[i][2] * b.m[2][j];
+  return r;
+}
+
+LaneMat3 transpose(const LaneMat3& a) {
+  LaneMat3 r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) r.m[i][j] = a.m[j][i];
+  return r;
+}
+
+LaneMat3 broadcast(const glm::mat3& a) {  // glm is [column][row]
+  LaneMat3 r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) r.m[i][j] = simd::broadcast(a[j][i]);
+  return r;
+}
+
+f32v per_lane(f32v x, float (*f)(float)) {
+  for (int l = 0; l < kLanes; ++l) x[l] = f(x[l]);
+  return x;
+}
+float exp_of(float x) { return std::exp(x); }
+float log_of(float x) { return std::log(x); }
+
+// std::min(a, b) and std::max(a, b) per lane, NaN handling included.
+f32v min_of(f32v a, f32v b) { return b < a ? b : a; }
+f32v max_of(f32v a, f32v b) { return a < b ? b : a; }
+i32v min_of(i32v a, i32v b) { return b < a ? b : a; }
+i32v max_of(i32v a, i32v b) { return a < b ? b : a; }
+
+// The parameters of Gaussians first .. first + kLanes − 1, one per lane (the lanes past
+// `lanes` repeat the last Gaussian).
+struct LaneGaussians {
+  f32v mean[3], log_scale[3], quat[4], opacity_logit;
+
+  LaneGaussians(const GaussianModel& model, std::size_t first, int lanes) {
+    for (int l = 0; l < kLanes; ++l) {
+      const std::size_t i = first + std::size_t(std::min(l, lanes - 1));
+      for (int k = 0; k < 3; ++k) mean[k][l] = model.means[3 * i + k];
+      for (int k = 0; k < 3; ++k) log_scale[k][l] = model.log_scales[3 * i + k];
+      for (int k = 0; k < 4; ++k) quat[k][l] = model.quats[4 * i + k];
+      opacity_logit[l] = model.opacity_logits[i];
+    }
+  }
+};
+
+// quat_to_rotmat.
+LaneMat3 rotation_of(const f32v q[4]) {
+  const f32v inv_norm = 1.0f / simd::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  const f32v w = q[0] * inv_norm, x = q[1] * inv_norm, y = q[2] * inv_norm, z = q[3] * inv_norm;
+  return {{{1.0f - 2.0f * (y * y + z * z), 2.0f * (x * y - w * z), 2.0f * (x * z + w * y)},
+           {2.0f * (x * y + w * z), 1.0f - 2.0f * (x * x + z * z), 2.0f * (y * z - w * x)},
+           {2.0f * (x * z - w * y), 2.0f * (y * z + w * x), 1.0f - 2.0f * (x * x + y * y)}}};
+}
+
+// covariance_3d: M = R S, Σ = M Mᵀ.
+LaneMat3 covariance_of(const f32v scale[3], const LaneMat3& rotation) {
+  LaneMat3 m = rotation;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m.m[i][j] = m.m[i][j] * scale[j];
+  return multiply(m, transpose(m));
+}
+
+// The tiles a Gaussian of each lane touches, as integer vectors.
+struct LaneTileRect {
+  i32v x0, y0, x1, y1;
+};
+
+// reference_tile_rect per lane.
+LaneTileRect reference_tile_rects(f32v x, f32v y, i32v r, const TileGrid& grid) {
+  auto bound = [](f32v v, int limit) {
+    return min_of(i32v{} + limit, max_of(i32v{}, __builtin_convertvector(v / float(kTileSize), i32v)));
+  };
+  const f32v rf = __builtin_convertvector(r, f32v);
+  const f32v reach = __builtin_convertvector(r + (kTileSize - 1), f32v);
+  return {bound(x - rf, grid.tiles_x), bound(y - rf, grid.tiles_y), bound(x + reach, grid.tiles_x),
+          bound(y + reach, grid.tiles_y)};
+}
+
+// The tiles that the box |dx| <= ex, |dy| <= ey around (x, y) touches, per lane, intersected
+// with `rect` (all zero where empty).
+LaneTileRect clip_to_extent(const LaneTileRect& rect, f32v x, f32v y, f32v ex, f32v ey,
+                            const TileGrid& grid) {
+  auto clamp_to_int = [](f32v v, int limit) {  // std::clamp(v, 0, limit)
+    const f32v hi = simd::broadcast(float(limit));
+    return __builtin_convertvector(v < 0.0f ? f32v{} : (hi < v ? hi : v), i32v);
+  };
+  auto tile_lo = [&](f32v v, int limit) { return clamp_to_int(simd::floor(v / float(kTileSize)), limit); };
+  auto tile_hi = [&](f32v v, int limit) {
+    return clamp_to_int(simd::floor(v / float(kTileSize)) + 1.0f, limit);
+  };
+  LaneTileRect r{max_of(rect.x0, tile_lo(x - ex, grid.tiles_x)), max_of(rect.y0, tile_lo(y - ey, grid.tiles_y)),
+                 min_of(rect.x1, tile_hi(x + ex, grid.tiles_x)), min_of(rect.y1, tile_hi(y + ey, grid.tiles_y))};
+  const i32v empty = (r.x1 <= r.x0) | (r.y1 <= r.y0);
+  r.x0 = empty ? i32v{} : r.x0;
+  r.y0 = empty ? i32v{} : r.y0;
+  r.x1 = empty ? i32v{} : r.x1;
+  r.y1 = empty ? i32v{} : r.y1;
+  return r;
+}
+
+// What project_gaussians needs of the camera, computed once per frame.
+struct LaneCamera {
+  LaneMat3 rotation;  // camera from world
+  f32v translation[3];
+  glm::vec3 center;
+  float fx, fy, limit_x, limit_y;
+  PixelProjection pixel_of;
+  TileGrid grid;
+
+  explicit LaneCamera(const Camera& camera)
+      : rotation(broadcast(camera.camera_from_world_rotation)),
+        center(camera.center_in_world()),
+        fx(camera.fx),
+        fy(camera.fy),
+        limit_x(kJacobianClamp * camera.tan_half_fov_x()),
+        limit_y(kJacobianClamp * camera.tan_half_fov_y()),
+        pixel_of(camera),
+        grid(TileGrid::for_image(camera.width, camera.height)) {
+    for (int k = 0; k < 3; ++k) translation[k] = simd::broadcast(camera.camera_from_world_translation[k]);
+  }
+};
+
+// Projects Gaussians first .. first + lanes − 1 into `out`, as the scalar functions would
+// one by one. Returns the lanes drawn (bit l for Gaussian first + l); their unit view
+// directions are in dir.
+std::uint32_t project_lanes(const GaussianModel& model, std::size_t first, int lanes,
+                            const LaneCamera& cam, ProjectedGaussians& out, f32v dir[3]) {
+  const LaneGaussians g(model, first, lanes);
+  f32v mean_camera[3];  // Camera::camera_from_world
+  for (int i = 0; i < 3; ++i)
+    mean_camera[i] = cam.rotation.m[i][0] * g.mean[0] + cam.rotation.m[i][1] * g.mean[1] +
+                     cam.rotation.m[i][2] * g.mean[2] + cam.translation[i];
+  const f32v z = mean_camera[2];
+  i32v projected = z > kNearPlane;  // also drops a NaN position
+
+  f32v scale[3];
+  for (int k = 0; k < 3; ++k) scale[k] = per_lane(g.log_scale[k], exp_of);
+  const LaneMat3 cov3d = covariance_of(scale, rotation_of(g.quat));
+
+  // covariance_2d with projection_jacobian.
+  const f32v x = min_of(simd::broadcast(cam.limit_x), max_of(simd::broadcast(-cam.limit_x), mean_camera[0] / z)) * z;
+  const f32v y = min_of(simd::broadcast(cam.limit_y), max_of(simd::broadcast(-cam.limit_y), mean_camera[1] / z)) * z;
+  const f32v zero{};
+  const LaneMat3 jacobian{{{cam.fx / z, zero, -cam.fx * x / (z * z)},
+                           {zero, cam.fy / z, -cam.fy * y / (z * z)},
+                           {zero, zero, zero}}};
+  const LaneMat3 t = multiply(jacobian, cam.rotation);
+  const LaneMat3 cov = multiply(multiply(t, cov3d), transpose(t));
+  const f32v xx = cov.m[0][0] + kCovarianceDilation, xy = cov.m[0][1], yy = cov.m[1][1] + kCovarianceDilation;
+
+  // invert_covariance_2d.
+  const f32v det = xx * yy - xy * xy;
+  projected &= det != 0.0f;
+  const f32v inv_det = 1.0f / det;
+  const f32v conic_a = yy * inv_det, conic_b = -xy * inv_det, conic_c = xx * inv_det;
+  f32v center_x, center_y;
+  cam.pixel_of(g.mean[0], g.mean[1], g.mean[2], center_x, center_y);
+  // Non-finite or absurd footprints (NaN parameters, scales overflowing exp) would make
+  // the integer tile arithmetic below undefined; they cannot be drawn, so they are culled.
+  constexpr float kMaxFootprint = 1e7f, kMaxFinite = 3.40282347e38f;
+  projected &= (simd::abs(center_x) < kMaxFootprint) & (simd::abs(center_y) < kMaxFootprint) &
+               (xx < kMaxFootprint * kMaxFootprint) & (yy < kMaxFootprint * kMaxFootprint) &
+               (simd::abs(conic_a) <= kMaxFinite) & (simd::abs(conic_b) <= kMaxFinite) &
+               (simd::abs(conic_c) <= kMaxFinite);
+
+  // screen_radius.
+  const f32v mid = 0.5f * (xx + yy);
+  const f32v lambda_max = mid + simd::sqrt(max_of(simd::broadcast(kMinEigenGap), mid * mid - det));
+  const i32v radius = __builtin_convertvector(simd::ceil(kRadiusSigmas * simd::sqrt(lambda_max)), i32v);
+  const LaneTileRect rect = reference_tile_rects(center_x, center_y, radius, cam.grid);
+  projected &= (rect.x1 != rect.x0) & (rect.y1 != rect.y0);
+
+  const f32v opacity = 1.0f / (1.0f + per_lane(-g.opacity_logit, exp_of));  // sigmoid
+  const f32v to_x = g.mean[0] - cam.center.x, to_y = g.mean[1] - cam.center.y, to_z = g.mean[2] - cam.center.z;
+  const f32v inv_length = 1.0f / simd::sqrt(to_x * to_x + to_y * to_y + to_z * to_z);  // glm::normalize
+  dir[0] = to_x * inv_length;
+  dir[1] = to_y * inv_length;
+  dir[2] = to_z * inv_length;
+
+  // α = o·exp(−q/2) ≥ kMinAlpha exactly where q ≤ 2 ln(o / kMinAlpha); the box around
+  // that ellipse is ±sqrt(q_max · Σ'ᵢᵢ). Outside it nothing is blended, so only tiles
+  // (and, in blending, pixels) inside it need visiting. A small margin absorbs rounding.
+  const f32v q_max = 2.0f * per_lane(opacity / kMinAlpha, log_of);
+  const i32v reaches = q_max > 0.0f;  // else too transparent to ever reach kMinAlpha
+  constexpr float kRelativeMargin = 1e-3f, kAbsoluteMargin = 1e-2f;
+  f32v extent_x = simd::sqrt(q_max * xx) * (1 + kRelativeMargin) + kAbsoluteMargin;
+  f32v extent_y = simd::sqrt(q_max * yy) * (1 + kRelativeMargin) + kAbsoluteMargin;
+  extent_x = reaches ? extent_x : zero;
+  extent_y = reaches ? extent_y : zero;
+  const LaneTileRect tiles = clip_to_extent(rect, center_x, center_y, extent_x, extent_y, cam.grid);
+
+  const std::uint32_t projected_bits = simd::bits(projected) & ((1u << lanes) - 1);
+  const std::uint32_t drawn = projected_bits & simd::bits(reaches);
+  for (int l = 0; l < lanes; ++l) {
+    const std::size_t i = first + std::size_t(l);
+    const bool is_drawn = (drawn >> l) & 1;
+    out.radius[i] = (projected_bits >> l) & 1 ? radius[l] : 0;
+    out.tiles[i] = is_drawn ? TileRect{tiles.x0[l], tiles.y0[l], tiles.x1[l], tiles.y1[l]} : TileRect{0, 0, 0, 0};
+    if (!((projected_bits >> l) & 1)) continue;
+    Splat2D& s = out.splats[i];
+    s.mean_x = center_x[l];
+    s.mean_y = center_y[l];
+    s.conic_a = conic_a[l];
+    s.conic_b = conic_b[l];
+    s.conic_c = conic_c[l];
+    s.opacity = opacity[l];
+    s.depth = z[l];
+    s.q_max = q_max[l];
+    s.extent_x = extent_x[l];
+    s.extent_y = extent_y[l];
+  }
+  return drawn;
+}
+
 }  // namespace
 
 TileRect reference_tile_rect(float x, float y, int r, const TileGrid& grid) {
@@ -80,88 +295,19 @@ void project_gaussians(const GaussianModel& model, const Camera& camera, int sh_
   out.splats.resize(n);
   out.radius.resize(n);
   out.tiles.resize(n);
-  const TileGrid grid = TileGrid::for_image(camera.width, camera.height);
   const int degree = std::clamp(sh_degree, 0, model.sh_degree);
-  const glm::vec3 camera_center = camera.center_in_world();
-  const float tan_fov_x = camera.tan_half_fov_x(), tan_fov_y = camera.tan_half_fov_y();
-  const PixelProjection pixel_of(camera);
-
-  // Everything but the colour, one Gaussian at a time; returns whether the Gaussian is drawn
-  // (then its unit view direction is in `dir`).
-  auto project_one = [&](std::size_t i, glm::vec3& dir) -> bool {
-    out.radius[i] = 0;
-    out.tiles[i] = {0, 0, 0, 0};
-    const glm::vec3 mean(model.means[3 * i], model.means[3 * i + 1], model.means[3 * i + 2]);
-    const glm::vec3 mean_camera = camera.camera_from_world(mean);
-    if (!(mean_camera.z > kNearPlane)) return false;  // also drops a NaN position
-
-    const glm::vec3 scale(std::exp(model.log_scales[3 * i]), std::exp(model.log_scales[3 * i + 1]),
-                          std::exp(model.log_scales[3 * i + 2]));
-    const glm::vec4 quat(model.quats[4 * i], model.quats[4 * i + 1], model.quats[4 * i + 2],
-                         model.quats[4 * i + 3]);
-    const Mat3<float> cov3d = covariance_3d(scale, quat_to_rotmat(quat));
-    const Sym2<float> cov2d = covariance_2d(mean_camera, cov3d, camera.camera_from_world_rotation,
-                                            camera.fx, camera.fy, tan_fov_x, tan_fov_y);
-    Vec3<float> conic;
-    if (!invert_covariance_2d(cov2d, conic)) return false;
-    const Vec2<float> center = pixel_of(mean);
-    // Non-finite or absurd footprints (NaN parameters, scales overflowing exp) would make
-    // the integer tile arithmetic below undefined; they cannot be drawn, so they are culled.
-    constexpr float kMaxFootprint = 1e7f;
-    if (!(std::abs(center.x) < kMaxFootprint && std::abs(center.y) < kMaxFootprint &&
-          cov2d.xx < kMaxFootprint * kMaxFootprint && cov2d.yy < kMaxFootprint * kMaxFootprint &&
-          std::isfinite(conic.x) && std::isfinite(conic.y) && std::isfinite(conic.z)))
-      return false;
-    const int radius = screen_radius(cov2d);
-    TileRect rect = reference_tile_rect(center.x, center.y, radius, grid);
-    if (rect.count() == 0) return false;
-    out.radius[i] = radius;
-
-    Splat2D& s = out.splats[i];
-    s.mean_x = center.x;
-    s.mean_y = center.y;
-    s.conic_a = conic.x;
-    s.conic_b = conic.y;
-    s.conic_c = conic.z;
-    s.opacity = sigmoid(model.opacity_logits[i]);
-    s.depth = mean_camera.z;
-    dir = glm::normalize(mean - camera_center);
-
-    // α = o·exp(−q/2) ≥ kMinAlpha exactly where q ≤ 2 ln(o / kMinAlpha); the box around
-    // that ellipse is ±sqrt(q_max · Σ'ᵢᵢ). Outside it nothing is blended, so only tiles
-    // (and, in blending, pixels) inside it need visiting. A small margin absorbs rounding.
-    const float q_max = 2.0f * std::log(s.opacity / kMinAlpha);
-    s.q_max = q_max;
-    if (!(q_max > 0.0f)) {
-      s.extent_x = s.extent_y = 0.0f;
-      return false;  // too transparent to ever reach kMinAlpha
-    }
-    constexpr float kRelativeMargin = 1e-3f, kAbsoluteMargin = 1e-2f;
-    s.extent_x = std::sqrt(q_max * cov2d.xx) * (1 + kRelativeMargin) + kAbsoluteMargin;
-    s.extent_y = std::sqrt(q_max * cov2d.yy) * (1 + kRelativeMargin) + kAbsoluteMargin;
-    rect = intersect(rect, extent_tile_rect(center.x, center.y, s.extent_x, s.extent_y, grid));
-    out.tiles[i] = rect;
-    return true;
-  };
-
-  // The colours kLanes Gaussians at a time: one by one, the SH sums of degree 3 were about
-  // 40 % of the projection (219k-Gaussian benchmark model at 800²: 11.1 ms, 6.8 at degree 0).
-  // Each lane sums in sh_evaluate's order.
+  const LaneCamera lane_camera(camera);
+  // The SH colours too kLanes Gaussians at a time: one by one, the SH sums of degree 3 were
+  // about 40 % of the projection (219k-Gaussian benchmark model at 800²: 11.1 ms, 6.8 at
+  // degree 0). Each lane sums in sh_evaluate's order.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
     for (std::size_t first = range.begin(); first < range.end(); first += kLanes) {
       const int lanes = int(std::min<std::size_t>(kLanes, range.end() - first));
-      f32v dir_x{}, dir_y{}, dir_z{};
-      std::uint32_t drawn = 0;
-      for (int l = 0; l < lanes; ++l) {
-        glm::vec3 dir(0.0f, 0.0f, 1.0f);
-        if (project_one(first + l, dir)) drawn |= 1u << l;
-        dir_x[l] = dir.x;
-        dir_y[l] = dir.y;
-        dir_z[l] = dir.z;
-      }
+      f32v dir[3];
+      std::uint32_t drawn = project_lanes(model, first, lanes, lane_camera, out, dir);
       if (drawn == 0) continue;
       f32v rgb[3];
-      sh_colors(model, first, lanes, degree, dir_x, dir_y, dir_z, rgb);
+      sh_colors(model, first, lanes, degree, dir[0], dir[1], dir[2], rgb);
       for (; drawn != 0; drawn &= drawn - 1) {
         const int l = __builtin_ctz(drawn);
         for (int c = 0; c < 3; ++c) out.splats[first + l].color[c] = rgb[c][l];

@@ -17,10 +17,7 @@ constexpr double kConformancePsnrDb = 45.0;
 
 TEST(Conformance, EveryReferenceViewAbove45Db) {
   const auto dir = test::shared_dir() / "conformance";
-  const GaussianModel model = read_ply(dir / "lego_subset50k.ply");
-  TransformsOptions size;
-  size.width = size.height = 400;
-  const auto frames = load_transforms(dir / "transforms_test.json", size);
+  const auto [model, frames] = test::load_conformance(400);
   ASSERT_EQ(frames.size(), 13u);
 
   Rasterizer rasterizer;

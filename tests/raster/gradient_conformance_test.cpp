@@ -24,10 +24,8 @@ std::vector<float> read_f32(const std::filesystem::path& file) {
 
 TEST(GradientConformance, MatchesOfficialGradientsForViewR0) {
   const auto dir = test::shared_dir() / "conformance";
-  const GaussianModel model = read_ply(dir / "lego_subset50k.ply");
-  TransformsOptions size;
-  size.width = size.height = 400;
-  const Camera camera = load_transforms(dir / "transforms_test.json", size).at(0).camera;
+  const auto [model, frames] = test::load_conformance(400);
+  const Camera camera = frames.at(0).camera;
   const std::vector<float> weights = read_f32(dir / "gradients" / "W_r_0.f32");  // [3, H, W]
   const std::vector<float> reference = read_f32(dir / "gradients" / "grad_r_0.f32");  // [N, 59]
   const std::vector<float> their_image = read_f32(dir / "gradients" / "I_r_0.f32");  // [3, H, W]
