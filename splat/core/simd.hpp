@@ -176,15 +176,20 @@ inline f32v reduce_add_each(const f32v v[kLanes]) {
 
 // e^x for x <= 0, relative error below 2e-7 (a few ulp), flushing to 0 below -87.
 // Cody-Waite range reduction x = n ln2 + r, |r| <= ln2/2, then a degree-6 Taylor-like
-// minimax polynomial for e^r; 2^n is built in the exponent bits. Deterministic on every
+// minimax polynomial for e^r, times 2^n. Deterministic on every
 // machine (no libm call), which keeps renders identical across platforms and thread counts.
 inline f32v exp_nonpositive(f32v x) {
   constexpr float kLog2e = 1.44269504088896341f;
   constexpr float kLn2Hi = 0.693359375f;
   constexpr float kLn2Lo = -2.12194440e-4f;
   x = max(x, broadcast(-87.0f));
-  const f32v n = __builtin_convertvector(
-      __builtin_convertvector(x * kLog2e - 0.5f, i32v), f32v);  // round(x log2e): truncation of (x log2e - 0.5) for x <= 0
+  // n = round(x log2e), as the truncation of x log2e − 0.5 (x <= 0).
+#if defined(__AVX512VL__)
+  const f32v n = reinterpret_cast<f32v>(_mm256_roundscale_ps(reinterpret_cast<__m256>(x * kLog2e - 0.5f),
+                                                             _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC));
+#else
+  const f32v n = __builtin_convertvector(__builtin_convertvector(x * kLog2e - 0.5f, i32v), f32v);
+#endif
   const f32v r = (x - n * kLn2Hi) - n * kLn2Lo;
   f32v p = broadcast(1.9875691500e-4f);
   p = p * r + 1.3981999507e-3f;
@@ -193,10 +198,16 @@ inline f32v exp_nonpositive(f32v x) {
   p = p * r + 1.6666665459e-1f;
   p = p * r + 5.0000001201e-1f;
   p = p * r * r + r + 1.0f;
+  // p · 2ⁿ: one instruction where AVX-512 has it, else 2ⁿ built in the exponent bits (the
+  // same single rounding either way).
+#if defined(__AVX512VL__)
+  return reinterpret_cast<f32v>(_mm256_scalef_ps(reinterpret_cast<__m256>(p), reinterpret_cast<__m256>(n)));
+#else
   const i32v exponent = (__builtin_convertvector(n, i32v) + 127) << 23;
   f32v scale;
   std::memcpy(&scale, &exponent, sizeof(scale));
   return p * scale;
+#endif
 }
 
 }  // namespace splat::simd
