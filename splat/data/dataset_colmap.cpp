@@ -103,9 +103,20 @@ Dataset load_colmap(const fs::path& folder, const fs::path& sparse_dir,
                           model.cameras_file.string() + " (camera " +
                               std::to_string(image.camera_id) + ")",
                           options.background);
-    if (!intrinsics.distortion.is_identity())
-      view.image = undistort_image(view.image, view.camera, intrinsics.distortion,
-                                   options.background);
+    if (!intrinsics.distortion.is_identity()) {
+      // The photo through a pinhole, less the border the lens does not cover.
+      const PixelRect covered = covered_region(view.camera, intrinsics.distortion);
+      if (covered.width < view.camera.width / 2 || covered.height < view.camera.height / 2)
+        throw InputError(model.cameras_file,
+                         "camera " + std::to_string(image.camera_id) + ": its distortion leaves only " +
+                             std::to_string(covered.width) + " x " + std::to_string(covered.height) +
+                             " of the " + std::to_string(view.camera.width) + " x " +
+                             std::to_string(view.camera.height) + " image covered");
+      view.image = crop_image(undistort_image(view.image, view.camera, intrinsics.distortion,
+                                              options.background),
+                              covered);
+      view.camera = crop_camera(view.camera, covered);
+    }
     downscale_view(view, options.downscale, file);
   });
 

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -34,7 +36,74 @@ void sample_bilinear(const Image& image, double px, double py, const float backg
   }
 }
 
+// Whether the centre of pinhole pixel (i, j) maps inside the distorted photo (the test of
+// sample_bilinear), for every pixel, row by row.
+std::vector<std::uint8_t> covered_pixels(const Camera& pinhole, const LensDistortion& distortion) {
+  const double fx = pinhole.fx, fy = pinhole.fy, cx = pinhole.cx, cy = pinhole.cy;
+  std::vector<std::uint8_t> covered(std::size_t(pinhole.width) * std::size_t(pinhole.height));
+  for (int j = 0; j < pinhole.height; ++j)
+    for (int i = 0; i < pinhole.width; ++i) {
+      double xd, yd;
+      distortion.distort((i + 0.5 - cx) / fx, (j + 0.5 - cy) / fy, xd, yd);
+      const double px = fx * xd + cx, py = fy * yd + cy;
+      covered[std::size_t(j) * pinhole.width + i] =
+          px >= 0 && px <= pinhole.width && py >= 0 && py <= pinhole.height;
+    }
+  return covered;
+}
+
 }  // namespace
+
+PixelRect covered_region(const Camera& pinhole, const LensDistortion& distortion) {
+  const std::vector<std::uint8_t> covered = covered_pixels(pinhole, distortion);
+  int x0 = 0, y0 = 0, x1 = pinhole.width, y1 = pinhole.height;  // [x0, x1) x [y0, y1)
+  auto uncovered_in_row = [&](int j) {
+    int n = 0;
+    for (int i = x0; i < x1; ++i) n += !covered[std::size_t(j) * pinhole.width + i];
+    return n;
+  };
+  auto uncovered_in_column = [&](int i) {
+    int n = 0;
+    for (int j = y0; j < y1; ++j) n += !covered[std::size_t(j) * pinhole.width + i];
+    return n;
+  };
+  while (x0 < x1 && y0 < y1) {
+    // Sides in a fixed order (top, bottom, left, right); ties go to the first.
+    const int counts[4] = {uncovered_in_row(y0), uncovered_in_row(y1 - 1), uncovered_in_column(x0),
+                           uncovered_in_column(x1 - 1)};
+    const int side = int(std::max_element(counts, counts + 4) - counts);
+    if (counts[side] == 0) break;
+    if (side == 0) ++y0;
+    else if (side == 1) --y1;
+    else if (side == 2) ++x0;
+    else --x1;
+  }
+  if (x0 >= x1 || y0 >= y1) return {};
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
+Camera crop_camera(const Camera& camera, const PixelRect& region) {
+  Camera cropped = camera;
+  cropped.cx -= float(region.x0);
+  cropped.cy -= float(region.y0);
+  cropped.width = region.width;
+  cropped.height = region.height;
+  return cropped;
+}
+
+Image crop_image(const Image& image, const PixelRect& region) {
+  if (region.x0 < 0 || region.y0 < 0 || region.width < 0 || region.height < 0 ||
+      region.x0 + region.width > image.width || region.y0 + region.height > image.height)
+    throw ArgumentError("crop_image: region outside the " + std::to_string(image.width) + " x " +
+                        std::to_string(image.height) + " image");
+  Image out(region.width, region.height, image.channels);
+  const std::size_t row_values = std::size_t(region.width) * image.channels;
+  for (int j = 0; j < region.height; ++j)
+    std::copy_n(image.data.begin() +
+                    std::ptrdiff_t((std::size_t(region.y0 + j) * image.width + region.x0) * image.channels),
+                row_values, &out.at(0, j, 0));
+  return out;
+}
 
 Image undistort_image(const Image& distorted, const Camera& pinhole,
                       const LensDistortion& distortion, const float background[3]) {

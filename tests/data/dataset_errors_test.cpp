@@ -142,6 +142,18 @@ TEST(DatasetErrors, ColmapUnsupportedCameraModels) {
   expect_mentions(e, "OPENCV_FISHEYE");
 }
 
+TEST(DatasetErrors, ColmapLensThatCoversTooLittle) {
+  // A distortion so strong that most of the pinhole image would be background.
+  const fs::path dir = test::scratch_dir("dataset_error_colmap_lens");
+  TestModel model = pinhole_model(3);
+  model.cameras[0].model = ColmapCameraModel::kOpenCv;
+  model.cameras[0].params = {5, 5, 3, 2, 40.0, 0, 0, 0};
+  test::write_colmap_folder(dir, model, ModelForm::kText);
+  const InputError e = load_error(dir);
+  EXPECT_EQ(e.file(), dir / "sparse" / "0" / "cameras.txt");
+  expect_mentions(e, "distortion leaves only");
+}
+
 TEST(DatasetErrors, ColmapEmptyPointCloud) {
   const fs::path dir = test::scratch_dir("dataset_error_colmap_points");
   TestModel model = pinhole_model(3);

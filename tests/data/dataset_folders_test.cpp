@@ -198,10 +198,43 @@ TEST(DatasetFolders, ColmapDistortedCamerasAreUndistorted) {
       if (v.name == name) view = &v;
     ASSERT_NE(view, nullptr) << name;
     const Image raw = read_image(dir / "images" / (name + ".png"));
-    const Image expected = undistort_image(raw, view->camera, distortion, kWhite);
+    // The view is the pinhole image less the border the lens does not cover; its camera
+    // is the pinhole camera cropped alike.
+    const ColmapImage& image = image_named(model, name + ".png");
+    const ColmapCamera& colmap = model.cameras[std::size_t(image.camera_id - 1)];
+    Camera pinhole = view->camera;
+    pinhole.width = colmap.width;
+    pinhole.height = colmap.height;
+    const bool two_focals = colmap.model == ColmapCameraModel::kOpenCv;
+    pinhole.cx = float(colmap.params[two_focals ? 2 : 1]);
+    pinhole.cy = float(colmap.params[two_focals ? 3 : 2]);
+    const PixelRect covered = covered_region(pinhole, distortion);
+    const Image expected = crop_image(undistort_image(raw, pinhole, distortion, kWhite), covered);
     EXPECT_EQ(view->image.data, expected.data) << name;
-    EXPECT_NE(view->image.data, raw.data) << name;
+    EXPECT_EQ(view->image.width, covered.width) << name;
+    EXPECT_EQ(view->camera.width, covered.width) << name;
+    EXPECT_EQ(view->camera.height, covered.height) << name;
+    EXPECT_FLOAT_EQ(view->camera.cx, pinhole.cx - float(covered.x0)) << name;
+    EXPECT_FLOAT_EQ(view->camera.cy, pinhole.cy - float(covered.y0)) << name;
   }
+
+  // These lenses are gentle enough to cover the tiny images; a strong one leaves a border,
+  // which is cut off, and the principal point moves with the cut.
+  TestModel strong = model;
+  strong.cameras[4].params[4] = 1.0;  // OPENCV k1
+  const fs::path strong_dir = test::scratch_dir("dataset_colmap_strong_lens");
+  test::write_colmap_folder(strong_dir, strong, ModelForm::kText);
+  const Dataset cut = load_dataset(strong_dir);
+  int strong_views = 0;
+  for (const DatasetView& v : cut.train)
+    if (v.name == "img_04") {
+      ++strong_views;
+      EXPECT_LT(v.camera.width * v.camera.height, 8 * 6);
+      EXPECT_EQ(v.image.width, v.camera.width);
+      EXPECT_EQ(v.image.height, v.camera.height);
+      EXPECT_LT(v.camera.cx, 4.0f);
+    }
+  EXPECT_EQ(strong_views, 1);
 
   // With every coefficient zero the lens is a pinhole: the image comes back as it is.
   // The coefficients follow the focal lengths and principal point: 3 of those for

@@ -137,6 +137,67 @@ TEST(DatasetUndistort, PointsBeyondTheImageGetTheBackground) {
   }
 }
 
+TEST(DatasetUndistort, CoveredRegionIsTheWholeImageForAPinhole) {
+  const Camera cam = small_camera();
+  const PixelRect r = covered_region(cam, LensDistortion{});
+  EXPECT_EQ(r.x0, 0);
+  EXPECT_EQ(r.y0, 0);
+  EXPECT_EQ(r.width, cam.width);
+  EXPECT_EQ(r.height, cam.height);
+}
+
+TEST(DatasetUndistort, CoveredRegionHoldsNoBackgroundAndLittleElse) {
+  const Camera cam = small_camera();
+  const LensDistortion lenses[] = {{0.15, -0.05, 0, 0}, {-0.12, 0.05, 0.01, -0.008}, {0.05, 0, 0.004, 0.002}};
+  for (const LensDistortion& d : lenses) {
+    const PixelRect r = covered_region(cam, d);
+    ASSERT_GT(r.width, 0);
+    ASSERT_GT(r.height, 0);
+    // Not one pixel of the region shows the background...
+    const Image out = undistort_image(Image(cam.width, cam.height, 3, 0.25f), cam, d, kMagenta);
+    const Image region = crop_image(out, r);
+    for (float v : region.data) ASSERT_EQ(v, 0.25f) << "k1 " << d.k1;
+    // ...and each side stops at the image's edge or next to a row or column with background
+    // (the greedy cut may overshoot by a little where two sides compete, never by much).
+    auto has_background_row = [&](int j) {
+      for (int i = r.x0; i < r.x0 + r.width; ++i)
+        if (out.at(i, j, 1) == kMagenta[1]) return true;
+      return false;
+    };
+    auto has_background_column = [&](int i) {
+      for (int j = r.y0; j < r.y0 + r.height; ++j)
+        if (out.at(i, j, 1) == kMagenta[1]) return true;
+      return false;
+    };
+    int slack = 0;  // sides that could grow by a pixel without background
+    slack += r.y0 > 0 && !has_background_row(r.y0 - 1);
+    slack += r.y0 + r.height < cam.height && !has_background_row(r.y0 + r.height);
+    slack += r.x0 > 0 && !has_background_column(r.x0 - 1);
+    slack += r.x0 + r.width < cam.width && !has_background_column(r.x0 + r.width);
+    EXPECT_LE(slack, 2) << "k1 " << d.k1;
+    // The background in the full image is only a border band: most of the image stays.
+    EXPECT_GT(double(r.width) * r.height, 0.6 * cam.width * cam.height) << "k1 " << d.k1;
+  }
+  // A lens that covers nothing of the pinhole image leaves an empty region.
+  const PixelRect none = covered_region(cam, LensDistortion{1e6, 0, 0, 0});
+  EXPECT_EQ(none.width * none.height, 0);
+}
+
+TEST(DatasetUndistort, CroppedCameraSeesTheCroppedPixels) {
+  const Camera cam = small_camera();
+  const PixelRect r{5, 3, 40, 30};
+  const Camera cropped = crop_camera(cam, r);
+  EXPECT_EQ(cropped.width, 40);
+  EXPECT_EQ(cropped.height, 30);
+  EXPECT_EQ(cropped.fx, cam.fx);
+  // The field a pinhole sees through the cropped camera is the crop of the full view.
+  const Image full = pinhole_render(cam), part = pinhole_render(cropped);
+  const Image cut = crop_image(full, r);
+  ASSERT_EQ(cut.width, part.width);
+  for (std::size_t k = 0; k < cut.data.size(); ++k) EXPECT_NEAR(cut.data[k], part.data[k], 1e-5) << k;
+  EXPECT_THROW(crop_image(full, PixelRect{30, 0, 40, 10}), ArgumentError);
+}
+
 TEST(DatasetUndistort, RejectsMismatchedImages) {
   const Camera cam = small_camera();
   EXPECT_THROW(undistort_image(Image(cam.width + 1, cam.height, 3), cam, {}, kBlack),
