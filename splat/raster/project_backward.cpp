@@ -13,7 +13,7 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
                                 const ProjectedGaussians& projected, const TileBins& bins,
                                 const std::vector<Splat2DGrad>& overlap_grads,
                                 GaussianModel& grads, std::vector<float>& viewspace_grad_norm,
-                                std::vector<float>& blend_weight) {
+                                std::vector<float>& blend_weight, CameraPoseGradient* camera_pose) {
   const std::size_t n = model.size();
   grads.sh_degree = model.sh_degree;
   grads.resize(n);
@@ -25,7 +25,19 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
   const float tan_fov_x = camera.tan_half_fov_x(), tan_fov_y = camera.tan_half_fov_y();
   const Mat3<float>& world_to_camera = camera.camera_from_world_rotation;
 
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 512), [&](const auto& range) {
+  // Fixed blocks, not the scheduler's ranges: the pose gradient is summed per block, then
+  // over the blocks in order, so that it does not depend on the thread count.
+  constexpr std::size_t kBlock = 512;
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  struct PosePart {
+    Mat3<double> rotation{0.0};
+    Vec3<double> translation{0.0};
+  };
+  std::vector<PosePart> pose_parts(camera_pose ? blocks : 0);
+  const Vec3<float> translation = camera.camera_from_world_translation;
+
+  tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
+    const tbb::blocked_range<std::size_t> range(block * kBlock, std::min(n, (block + 1) * kBlock));
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       float* v_mean_out = &grads.means[3 * i];
       float* v_log_scale_out = &grads.log_scales[3 * i];
@@ -94,18 +106,28 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
         if (raw_color[c] < 0.0f) v_color[c] = 0.0f;
       const glm::vec3 v_dir = sh_evaluate_vjp(degree, coeffs, dir, v_color, v_sh_out);
       // dir = offset/|offset|: v_offset = (v_dir − dir (dir·v_dir)) / |offset|.
-      glm::vec3 v_mean = (v_dir - dir * glm::dot(dir, v_dir)) / distance;
+      const glm::vec3 v_offset = (v_dir - dir * glm::dot(dir, v_dir)) / distance;
 
-      // Conic → Σ' → (camera-space mean, world covariance).
+      // Conic → Σ' → (camera-space mean, world covariance, and W directly).
       const Sym2<float> v_cov2d = invert_covariance_2d_vjp(conic, Vec3<float>(g.conic_a, g.conic_b, g.conic_c));
       Vec3<float> v_mean_camera;
-      Mat3<float> v_cov3d;
+      Mat3<float> v_cov3d, v_rotation_direct;
       covariance_2d_vjp(mean_camera, cov3d, world_to_camera, camera.fx, camera.fy, tan_fov_x,
-                        tan_fov_y, v_cov2d, v_mean_camera, v_cov3d);
+                        tan_fov_y, v_cov2d, v_mean_camera, v_cov3d,
+                        camera_pose ? &v_rotation_direct : nullptr);
       v_mean_camera += project_to_pixel_vjp(mean_camera, camera.fx, camera.fy,
                                             Vec2<float>(g.mean_x, g.mean_y));
-      // mean_camera = W mean + t.
-      v_mean += glm::transpose(world_to_camera) * v_mean_camera;
+      // mean_camera = W mean + t; offset = mean − C.
+      glm::vec3 v_mean = v_offset + glm::transpose(world_to_camera) * v_mean_camera;
+      if (camera_pose) {
+        Mat3<float> v_rotation = v_rotation_direct;
+        Vec3<float> v_translation(0.0f);
+        camera_pose_vjp(mean, world_to_camera, translation, v_mean_camera, -v_offset, v_rotation,
+                        v_translation);
+        PosePart& part = pose_parts[block];
+        part.rotation += Mat3<double>(v_rotation);
+        part.translation += Vec3<double>(v_translation);
+      }
 
       // Σ = R S Sᵀ Rᵀ → scale (then log-scale: ds/dlog_s = s) and rotation (then quaternion).
       Vec3<float> v_scale;
@@ -119,6 +141,15 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
       for (int a = 0; a < 4; ++a) v_quat_out[a] = v_quat[a];
     }
   });
+  if (camera_pose) {
+    PosePart total;
+    for (const PosePart& part : pose_parts) {
+      total.rotation += part.rotation;
+      total.translation += part.translation;
+    }
+    camera_pose->rotation = glm::mat3(total.rotation);
+    camera_pose->translation = glm::vec3(total.translation);
+  }
 }
 
 }  // namespace splat

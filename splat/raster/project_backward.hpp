@@ -11,6 +11,12 @@
 
 namespace splat {
 
+// ∂L/∂ of a view's camera-from-world rotation W (as a free 3 × 3 matrix) and translation t.
+struct CameraPoseGradient {
+  glm::mat3 rotation{0.0f};  // glm's [column][row]
+  glm::vec3 translation{0.0f};
+};
+
 // Sums each Gaussian's overlap gradients in the fixed order of its tile rectangle, then
 // chains them through the colour (SH and its view direction), the opacity sigmoid, the
 // conic inverse, the EWA covariance Σ' = J W Σ Wᵀ Jᵀ and the pixel projection to means,
@@ -19,10 +25,13 @@ namespace splat {
 // of ∂L/∂(2D mean) in normalised device units (pixels × (W/2, H/2)), as the reference
 // trainer accumulates it for densification; 0 for Gaussians that touch no tile.
 // `blend_weight[i]` receives Σ Tα over all pixels (the overlaps' blend_weight summed).
+// `camera_pose`, if given, receives ∂L/∂(the camera's pose) (camera_pose_vjp), summed over
+// the Gaussians in fixed blocks and fixed order, so it too is the same for any thread count.
 void project_gaussians_backward(const GaussianModel& model, const Camera& camera, int sh_degree,
                                 const ProjectedGaussians& projected, const TileBins& bins,
                                 const std::vector<Splat2DGrad>& overlap_grads,
                                 GaussianModel& grads, std::vector<float>& viewspace_grad_norm,
-                                std::vector<float>& blend_weight);
+                                std::vector<float>& blend_weight,
+                                CameraPoseGradient* camera_pose = nullptr);
 
 }  // namespace splat

@@ -135,7 +135,8 @@ template <class T>
 inline void covariance_2d_vjp(const Vec3<T>& mean_camera, const Mat3<T>& covariance_world,
                               const Mat3<T>& camera_from_world_rotation, T fx, T fy,
                               T tan_half_fov_x, T tan_half_fov_y, const Sym2<T>& v_cov2d,
-                              Vec3<T>& v_mean_camera, Mat3<T>& v_covariance_world) {
+                              Vec3<T>& v_mean_camera, Mat3<T>& v_covariance_world,
+                              Mat3<T>* v_camera_from_world_rotation = nullptr) {
   T x, y;
   const Mat3<T> jacobian =
       projection_jacobian(mean_camera, fx, fy, tan_half_fov_x, tan_half_fov_y, x, y);
@@ -146,6 +147,8 @@ inline void covariance_2d_vjp(const Vec3<T>& mean_camera, const Mat3<T>& covaria
   at(g, 1, 1) = v_cov2d.yy;
   v_covariance_world = glm::transpose(t) * g * t;
   const Mat3<T> v_t = (g + glm::transpose(g)) * t * covariance_world;
+  // W's direct use in T = J W (its use in the camera-space mean is camera_pose_vjp's).
+  if (v_camera_from_world_rotation) *v_camera_from_world_rotation = glm::transpose(jacobian) * v_t;
   const Mat3<T> v_j = v_t * glm::transpose(camera_from_world_rotation);
   const T z = mean_camera.z, z2 = z * z, z3 = z2 * z;
   // J00 = fx/z, J02 = −fx x/z², J11 = fy/z, J12 = −fy y/z².
@@ -160,6 +163,47 @@ inline void covariance_2d_vjp(const Vec3<T>& mean_camera, const Mat3<T>& covaria
   if (ratio_x < -limit_x || ratio_x > limit_x) v_z += (x / z) * v_x; else v_mx = v_x;
   if (ratio_y < -limit_y || ratio_y > limit_y) v_z += (y / z) * v_y; else v_my = v_y;
   v_mean_camera = Vec3<T>(v_mx, v_my, v_z);
+}
+
+// ---- The camera's pose ------------------------------------------------------------------
+// A view's pose is its camera-from-world rotation W and translation t. A Gaussian reaches
+// them through its camera-space mean m_c = W m + t (which the pixel position and the
+// Jacobian read), through W in Σ' = J W Σ Wᵀ Jᵀ (covariance_2d_vjp's optional output) and
+// through the camera centre C = −Wᵀ t, from which its SH colour is seen (direction m − C).
+// Given ∂L/∂m_c and ∂L/∂C, this adds the first and the last to v_rotation and v_translation:
+//   m_c = W m + t:  v_W += v_m_c mᵀ,  v_t += v_m_c
+//   C = −Wᵀ t:      v_W += −t v_Cᵀ,   v_t += −W v_C
+template <class T>
+inline void camera_pose_vjp(const Vec3<T>& mean_world, const Mat3<T>& camera_from_world_rotation,
+                            const Vec3<T>& camera_from_world_translation, const Vec3<T>& v_mean_camera,
+                            const Vec3<T>& v_camera_center, Mat3<T>& v_rotation, Vec3<T>& v_translation) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      at(v_rotation, r, c) += v_mean_camera[r] * mean_world[c] - camera_from_world_translation[r] * v_camera_center[c];
+  v_translation += v_mean_camera - camera_from_world_rotation * v_camera_center;
+}
+
+// A correction of a view's pose, applied in the camera's frame: W = R(q) W₀, t = R(q) t₀ + τ,
+// with R(q) the rotation of the quaternion q (normalised inside, as a Gaussian's) and τ a
+// translation; q = (1, 0, 0, 0), τ = 0 leave the pose as it is.
+template <class T>
+inline void apply_pose_correction(const Vec4<T>& q, const Vec3<T>& tau, const Mat3<T>& rotation0,
+                                  const Vec3<T>& translation0, Mat3<T>& rotation, Vec3<T>& translation) {
+  const Mat3<T> r = quat_to_rotmat(q);
+  rotation = r * rotation0;
+  translation = r * translation0 + tau;
+}
+
+// Its backward: v_R = v_W W₀ᵀ + v_t t₀ᵀ, then through the quaternion; v_τ = v_t.
+template <class T>
+inline void apply_pose_correction_vjp(const Vec4<T>& q, const Mat3<T>& rotation0, const Vec3<T>& translation0,
+                                      const Mat3<T>& v_rotation, const Vec3<T>& v_translation, Vec4<T>& v_q,
+                                      Vec3<T>& v_tau) {
+  Mat3<T> v_r = v_rotation * glm::transpose(rotation0);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) at(v_r, r, c) += v_translation[r] * translation0[c];
+  v_q = quat_to_rotmat_vjp(q, v_r);
+  v_tau = v_translation;
 }
 
 // Pixel position of a camera-space point, in the reference convention (pixel centres at

@@ -8,6 +8,7 @@
 #include "splat/raster/bin_sort.hpp"
 #include "splat/raster/blend.hpp"
 #include "splat/raster/blend_backward.hpp"
+#include "splat/raster/project_backward.hpp"
 #include "splat/raster/project.hpp"
 #include "splat/raster/render_result.hpp"
 
@@ -36,6 +37,8 @@ struct RasterGradients {
   std::vector<float> viewspace_grad_norm;   // [N] ‖∂L/∂(2D mean)‖ in NDC units (densification)
   std::vector<float> blend_weight;          // [N] Σ over pixels of Tα: how much of the image
                                             // each Gaussian makes (pruning by contribution)
+  bool with_camera_pose = false;            // set to also get ∂L/∂(the camera's pose):
+  CameraPoseGradient camera_pose;           // (pose refinement)
 };
 
 class Rasterizer {

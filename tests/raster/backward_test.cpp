@@ -24,6 +24,7 @@ BackwardRun run(const GaussianModel& model, const Camera& camera, const RenderSe
   BackwardRun r;
   Rasterizer rasterizer;
   rasterizer.render(model, camera, settings, r.forward);
+  r.grads.with_camera_pose = true;
   Image v_color(camera.width, camera.height, 3);
   std::mt19937 rng(weight_seed);
   std::normal_distribution<float> normal;
@@ -48,7 +49,10 @@ TEST(Backward, GradientsAreBitIdenticalForAnyThreadCount) {
     EXPECT_EQ(runs[0].grads.params.opacity_logits, runs[i].grads.params.opacity_logits);
     EXPECT_EQ(runs[0].grads.params.sh, runs[i].grads.params.sh);
     EXPECT_EQ(runs[0].grads.viewspace_grad_norm, runs[i].grads.viewspace_grad_norm);
+    EXPECT_EQ(runs[0].grads.camera_pose.rotation, runs[i].grads.camera_pose.rotation);
+    EXPECT_EQ(runs[0].grads.camera_pose.translation, runs[i].grads.camera_pose.translation);
   }
+  EXPECT_NE(runs[0].grads.camera_pose.translation, glm::vec3(0.0f));  // the scene moves it
 }
 
 TEST(Backward, CulledGaussiansGetZeroGradient) {

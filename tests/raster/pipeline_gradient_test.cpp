@@ -40,14 +40,24 @@ struct DoubleModel {
 // Σ W·I of the image rendered in double, pixel by pixel, with the rasterizer's rules (near
 // plane, Jacobian clamp, dilation, the reference tile rectangles, 1/255 skip, 0.99 clamp,
 // early stop).
+// `pose`, if given, replaces the camera's rotation and translation (in double).
+struct DoublePose {
+  Mat3<double> rotation;
+  Vec3<double> translation;
+};
+
 double reference_loss(const std::vector<double>& x, std::size_t n, int degree,
                       const Camera& camera, const std::vector<double>& weights,
-                      const float background[3]) {
+                      const float background[3], const DoublePose* pose = nullptr) {
   const DoubleModel m(x, n, degree);
   Mat3<double> rotation_cw;
   for (int c = 0; c < 3; ++c)
     for (int r = 0; r < 3; ++r) rotation_cw[c][r] = camera.camera_from_world_rotation[c][r];
-  const Vec3<double> t(camera.camera_from_world_translation);
+  Vec3<double> t(camera.camera_from_world_translation);
+  if (pose) {
+    rotation_cw = pose->rotation;
+    t = pose->translation;
+  }
   const Vec3<double> center = -(glm::transpose(rotation_cw) * t);
   const TileGrid grid = TileGrid::for_image(camera.width, camera.height);
   const int k_count = (degree + 1) * (degree + 1);
@@ -179,6 +189,57 @@ TEST(PipelineGradient, GaussiansAcrossTheImageBorder) {
   GaussianModel m = scene_model(12, 10, 0.3f, 0.08f, 0.25f);
   for (std::size_t i = 0; i < m.size(); ++i) m.means[3 * i] += (i % 2 ? 1.0f : -1.0f) * 1.05f;  // near the sides
   check_pipeline_gradient(m, cam, 2, "border");
+}
+
+// The gradient of the camera's pose, through a correction (quaternion q, translation τ)
+// applied to it, against central differences of the double reference render.
+void check_pose_gradient(const GaussianModel& model, const Camera& camera, unsigned seed, const std::string& what) {
+  RenderSettings settings;
+  settings.background[0] = 0.1f;
+  settings.background[1] = 0.7f;
+  settings.background[2] = 0.4f;
+  const std::vector<double> weights = test::random_vector(std::size_t(3) * camera.width * camera.height, seed);
+  Rasterizer rasterizer;
+  RenderResult forward;
+  rasterizer.render(model, camera, settings, forward);
+  Image v_color(camera.width, camera.height, 3);
+  for (std::size_t i = 0; i < weights.size(); ++i) v_color.data[i] = float(weights[i]);
+  RasterGradients grads;
+  grads.with_camera_pose = true;
+  rasterizer.backward(model, camera, settings, forward, v_color, grads);
+
+  const Mat3<double> rotation0(camera.camera_from_world_rotation);
+  const Vec3<double> translation0(camera.camera_from_world_translation);
+  const Vec4<double> identity(1, 0, 0, 0);
+  Vec4<double> v_q;
+  Vec3<double> v_tau;
+  apply_pose_correction_vjp(identity, rotation0, translation0, Mat3<double>(grads.camera_pose.rotation),
+                            Vec3<double>(grads.camera_pose.translation), v_q, v_tau);
+
+  const std::vector<double> params = flatten(model);
+  auto loss = [&](const std::vector<double>& correction) {
+    DoublePose pose;
+    apply_pose_correction(Vec4<double>(correction[0], correction[1], correction[2], correction[3]),
+                          Vec3<double>(correction[4], correction[5], correction[6]), rotation0, translation0,
+                          pose.rotation, pose.translation);
+    return std::vector<double>{
+        reference_loss(params, model.size(), model.sh_degree, camera, weights, settings.background, &pose)};
+  };
+  const std::vector<double> at_identity = {1, 0, 0, 0, 0, 0, 0};
+  const std::vector<double> numeric = test::numeric_vjp(loss, at_identity, {1.0}, 1e-6);
+  const double analytic[7] = {v_q[0], v_q[1], v_q[2], v_q[3], v_tau[0], v_tau[1], v_tau[2]};
+  double norm = 0;
+  for (double g : numeric) norm = std::max(norm, std::abs(g));
+  ASSERT_GT(norm, 0) << what;
+  for (int k = 0; k < 7; ++k) EXPECT_NEAR(analytic[k], numeric[std::size_t(k)], 5e-3 * norm) << what << " entry " << k;
+}
+
+TEST(PipelineGradient, CameraPose) {
+  check_pose_gradient(scene_model(11, 12, 0.5f, 0.08f, 0.3f), test::looking_at_origin(40, 28, 3.0f, 0.8f), 5,
+                      "overlapping");
+  GaussianModel border = scene_model(12, 10, 0.3f, 0.08f, 0.25f);
+  for (std::size_t i = 0; i < border.size(); ++i) border.means[3 * i] += (i % 2 ? 1.0f : -1.0f) * 1.05f;
+  check_pose_gradient(border, test::looking_at_origin(36, 30, 3.0f, 0.8f), 6, "border");
 }
 
 TEST(PipelineGradient, NearlyDegenerateGaussians) {
