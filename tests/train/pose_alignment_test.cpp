@@ -1,0 +1,74 @@
+// Pose alignment with the model fixed: from a known error in a tiny scene's camera, the
+// correction found by gradient descent on the rasterizer's pose gradient brings the camera
+// back to where the photograph was taken.
+#include "splat/train/pose_alignment.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "splat/raster/projection_math.hpp"
+#include "test_support.hpp"
+
+namespace splat {
+namespace {
+
+// Angle in degrees of the rotation between two camera-from-world rotations, from both the
+// sine (the skew part, accurate near 0) and the cosine (the trace) of R = A Bᵀ.
+double angle_between_deg(const glm::mat3& a, const glm::mat3& b) {
+  const glm::dmat3 r = glm::dmat3(a) * glm::transpose(glm::dmat3(b));
+  const glm::dvec3 skew(r[1][2] - r[2][1], r[2][0] - r[0][2], r[0][1] - r[1][0]);
+  const double sine = glm::length(skew) / 2, cosine = (r[0][0] + r[1][1] + r[2][2] - 1.0) / 2.0;
+  return std::atan2(sine, cosine) * 180.0 / 3.14159265358979323846;
+}
+
+TEST(PoseAlignment, RecoversAKnownPerturbation) {
+  GaussianModel model = test::random_model(400, 1, 5, 1.0f, 0.03f, 0.15f);
+  for (float& o : model.opacity_logits) o = 2.0f;
+  const Camera truth = test::looking_at_origin(64, 48, 3.0f, 0.8f);
+  RenderSettings render;
+  Rasterizer rasterizer;
+  RenderResult photo;
+  rasterizer.render(model, truth, render, photo);
+
+  // 2 degrees about a tilted axis and 1 % of the camera distance off.
+  PoseCorrection error;
+  const double half = 2.0 * 3.14159265358979323846 / 180.0 / 2.0;
+  const glm::vec3 axis = glm::normalize(glm::vec3(0.3f, 1.0f, -0.4f));
+  error.rotation = glm::vec4(float(std::cos(half)), axis * float(std::sin(half)));
+  error.translation = glm::vec3(0.02f, -0.015f, 0.015f);
+  const Camera wrong = error.applied_to(truth);
+  const double angle_before = angle_between_deg(wrong.camera_from_world_rotation, truth.camera_from_world_rotation);
+  const double offset_before = glm::length(wrong.center_in_world() - truth.center_in_world());
+  ASSERT_NEAR(angle_before, 2.0, 1e-3);
+
+  PoseAlignmentSettings settings;
+  settings.steps = 200;
+  const PoseAlignmentResult result = align_pose(model, wrong, photo.color, render, settings, 3.0f);
+  const Camera aligned = result.correction.applied_to(wrong);
+  const double angle_after = angle_between_deg(aligned.camera_from_world_rotation, truth.camera_from_world_rotation);
+  const double offset_after = glm::length(aligned.center_in_world() - truth.center_in_world());
+  std::printf("rotation error %.3f -> %.3f deg, centre offset %.4f -> %.4f, loss %.5f -> %.5f\n", angle_before,
+              angle_after, offset_before, offset_after, result.first_loss, result.last_loss);
+  EXPECT_LT(angle_after, 0.1 * angle_before);
+  EXPECT_LT(offset_after, 0.1 * offset_before);
+  EXPECT_LT(result.last_loss, 0.2 * result.first_loss);
+}
+
+TEST(PoseAlignment, LeavesTheRightPoseAlone) {
+  GaussianModel model = test::random_model(300, 1, 6, 1.0f, 0.03f, 0.15f);
+  const Camera truth = test::looking_at_origin(48, 40, 3.0f, 0.8f);
+  RenderSettings render;
+  Rasterizer rasterizer;
+  RenderResult photo;
+  rasterizer.render(model, truth, render, photo);
+  PoseAlignmentSettings settings;
+  settings.steps = 50;
+  const Camera aligned = align_pose(model, truth, photo.color, render, settings, 3.0f).correction.applied_to(truth);
+  EXPECT_LT(angle_between_deg(aligned.camera_from_world_rotation, truth.camera_from_world_rotation), 0.05);
+  EXPECT_LT(glm::length(aligned.center_in_world() - truth.center_in_world()), 2e-3);
+}
+
+}  // namespace
+}  // namespace splat
