@@ -32,6 +32,10 @@ DIR/test/<view>.png, DIR/config.json and DIR/checkpoint.ckpt.
   --threads N           worker threads (default: all cores)
   --downscale K         train and evaluate at 1/K of the image size (default 1)
   --max-gaussians N     Gaussian budget: densification never exceeds it (default: none)
+  --refine-poses        optimise a correction of every training view's pose with the scene
+                        (for poses with some error, as estimated ones have); the test views
+                        are then aligned to their photographs with the model fixed before
+                        they are scored (experimental: off by default)
   --test-every N        evaluate the test views every N iterations (default 1000 splat,
                         2000 nerf; 0 = end only)
   --checkpoint-every N  write DIR/checkpoint.ckpt every N iterations (default 5000; 0 = off)
@@ -77,7 +81,7 @@ int main(int argc, char** argv) {
                                {"data", "out", "method", "strategy", "iters", "max-seconds", "bg", "seed",
                                 "threads", "downscale", "max-gaussians", "test-every",
                                 "checkpoint-every", "resume", "config"},
-                               {"help", "quiet"});
+                               {"help", "quiet", "refine-poses"});
     if (args.has("help")) {
       std::fputs(kUsage, stdout);
       return 0;
@@ -94,6 +98,8 @@ int main(int argc, char** argv) {
         throw splat::ArgumentError("--max-gaussians is a splat setting; --method nerf has no Gaussians");
       if (args.value("strategy"))
         throw splat::ArgumentError("--strategy is a splat setting; --method nerf has no density control");
+      if (args.has("refine-poses"))
+        throw splat::ArgumentError("--refine-poses is a splat setting; the NeRF does not refine poses");
       apply_options(args, options.nerf_config, options);
     } else {
       const auto strategy = args.value("strategy");
@@ -103,6 +109,7 @@ int main(int argc, char** argv) {
         throw splat::ArgumentError("--strategy " + *strategy + " conflicts with the config file's strategy '" +
                                    options.config.strategy + "'");
       if (auto n = args.positive_integer("max-gaussians")) options.config.density.max_gaussians = std::size_t(*n);
+      if (args.has("refine-poses")) options.config.refine_poses = true;
     }
     if (auto n = args.positive_integer("threads")) options.threads = *n;
     if (auto k = args.positive_integer("downscale")) options.dataset.downscale = *k;

@@ -55,6 +55,28 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
     m["scene_extent"] = trainer_.scene_extent();
     m["strategy"] = trainer_.strategy().name();
     m["density_control"] = trainer_.strategy().metrics();
+    if (trainer_.config().refine_poses) m["pose_refinement"] = pose_refinement_metrics();
+  }
+
+ private:
+  // How far refinement moved the training views, and how the test views were scored.
+  nlohmann::json pose_refinement_metrics() const {
+    const PoseRefiner& refiner = trainer_.pose_refiner();
+    double rotation_deg = 0, translation = 0;
+    for (std::size_t v = 0; v < refiner.views(); ++v) {
+      const glm::vec4 q = glm::normalize(refiner.correction(v).rotation);
+      rotation_deg += 2.0 * std::acos(std::min(1.0, std::abs(double(q[0])))) * 180.0 / 3.14159265358979323846;
+      translation += glm::length(refiner.correction(v).translation);
+    }
+    const double views = std::max<std::size_t>(1, refiner.views());
+    nlohmann::json j;
+    j["training_views"] = refiner.views();
+    j["mean_rotation_correction_deg"] = rotation_deg / views;
+    j["mean_translation_correction"] = translation / views;
+    j["test_protocol"] = "each test view's pose is first aligned to its photograph by " +
+                         std::to_string(trainer_.config().test_pose_alignment_steps) +
+                         " pose-only Adam steps with the model fixed, then scored";
+    return j;
   }
 };
 

@@ -59,6 +59,7 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
   rng_state << rng_;
   header["rng"] = rng_state.str();
   header["strategy_state"] = strategy_->checkpoint_state();
+  if (config_.refine_poses) header["pose_steps"] = pose_refiner_.steps();
   const std::string text = header.dump();
 
   write_atomically(file, [&](const std::filesystem::path& temp) {
@@ -71,6 +72,10 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
     for (const GaussianModel* g : {&model_, &adam_.first_moment, &adam_.second_moment})
       for (const std::vector<float>* a : model_arrays(*g)) write_array(out, *a);
     for (const std::vector<float>* a : strategy_->checkpoint_arrays()) write_array(out, *a);
+    if (config_.refine_poses)  // the training views' pose corrections and their Adam moments
+      for (const std::vector<float>& a :
+           {pose_refiner_.parameters(), pose_refiner_.first_moments(), pose_refiner_.second_moments()})
+        write_array(out, a);
     if (!out) throw InputError(file, "cannot write the checkpoint");
   });
 }
@@ -130,7 +135,16 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
   // The checkpoint's config named the strategy: its statistics follow the moments.
   strategy_ = make_density_strategy(config_, dataset_.train.size(), 0);
   for (std::vector<float>* a : strategy_->checkpoint_arrays()) read_array(in, *a, remaining, file);
+  std::vector<float> pose_arrays[3];
+  if (config_.refine_poses)
+    for (std::vector<float>& a : pose_arrays) read_array(in, a, remaining, file);
   try {
+    if (config_.refine_poses) {
+      pose_refiner_ = PoseRefiner(dataset_.train.size(), scene_extent_);
+      test_alignments_.assign(dataset_.test.size(), PoseCorrection{});
+      pose_refiner_.restore(pose_arrays[0], pose_arrays[1], pose_arrays[2],
+                            header.at("pose_steps").get<std::vector<long long>>());
+    }
     model_.check_consistent();
     adam_.first_moment.check_consistent();
     adam_.second_moment.check_consistent();
@@ -139,6 +153,8 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
     strategy_->checkpoint_loaded(header.value("strategy_state", nlohmann::json::object()), model_.size());
   } catch (const ArgumentError& e) {
     throw InputError(file, std::string("checkpoint arrays are inconsistent: ") + e.what());
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(file, std::string("checkpoint header is malformed: ") + e.what());
   }
   last_good_model_ = model_;
 }

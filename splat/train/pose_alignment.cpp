@@ -1,10 +1,20 @@
 #include "splat/train/pose_alignment.hpp"
 
-#include "splat/optim/flat_adam.hpp"
+#include <cmath>
+#include <string>
+
+#include "splat/core/error.hpp"
 #include "splat/optim/photometric_loss.hpp"
 #include "splat/raster/projection_math.hpp"
 
 namespace splat {
+
+namespace {
+
+constexpr int kRotationValues = 4, kTranslationValues = 3, kValues = kRotationValues + kTranslationValues;
+constexpr FlatAdamSettings kPoseAdam{0.9, 0.999, 1e-8};  // PyTorch's defaults
+
+}  // namespace
 
 Camera PoseCorrection::applied_to(const Camera& camera) const {
   Camera corrected = camera;
@@ -14,23 +24,109 @@ Camera PoseCorrection::applied_to(const Camera& camera) const {
   return corrected;
 }
 
+PoseRefiner::PoseRefiner(std::size_t views, float scene_extent)
+    : extent_(scene_extent > 0 ? scene_extent : 1.0f),
+      corrections_(views),
+      rotation_adams_(views, FlatAdam(kRotationValues, kPoseAdam)),
+      translation_adams_(views, FlatAdam(kTranslationValues, kPoseAdam)) {}
+
+void PoseRefiner::step(std::size_t view, const Camera& base, const CameraPoseGradient& gradient,
+                       const PoseLearningRates& lr) {
+  PoseCorrection& c = corrections_[view];
+  Vec4<float> v_q;
+  Vec3<float> v_tau;
+  apply_pose_correction_vjp(Vec4<float>(c.rotation), base.camera_from_world_rotation,
+                            base.camera_from_world_translation, gradient.rotation, gradient.translation, v_q,
+                            v_tau);
+  const float g_rotation[kRotationValues] = {v_q[0], v_q[1], v_q[2], v_q[3]};
+  // τ is stepped in units of the extent: the parameter τ/extent has gradient v_τ·extent.
+  const float g_translation[kTranslationValues] = {v_tau[0] * extent_, v_tau[1] * extent_, v_tau[2] * extent_};
+  float scaled[kTranslationValues] = {c.translation[0] / extent_, c.translation[1] / extent_,
+                                      c.translation[2] / extent_};
+  rotation_adams_[view].step({&c.rotation[0], kRotationValues}, g_rotation, lr.rotation);
+  translation_adams_[view].step(scaled, g_translation, lr.translation);
+  for (int a = 0; a < kTranslationValues; ++a) c.translation[a] = scaled[a] * extent_;
+}
+
+std::vector<float> PoseRefiner::parameters() const {
+  std::vector<float> out;
+  for (const PoseCorrection& c : corrections_) {
+    for (int a = 0; a < kRotationValues; ++a) out.push_back(c.rotation[a]);
+    for (int a = 0; a < kTranslationValues; ++a) out.push_back(c.translation[a]);
+  }
+  return out;
+}
+
+std::vector<float> PoseRefiner::first_moments() const {
+  std::vector<float> out;
+  for (std::size_t v = 0; v < views(); ++v) {
+    const auto& r = rotation_adams_[v].first_moment();
+    const auto& t = translation_adams_[v].first_moment();
+    out.insert(out.end(), r.begin(), r.end());
+    out.insert(out.end(), t.begin(), t.end());
+  }
+  return out;
+}
+
+std::vector<float> PoseRefiner::second_moments() const {
+  std::vector<float> out;
+  for (std::size_t v = 0; v < views(); ++v) {
+    const auto& r = rotation_adams_[v].second_moment();
+    const auto& t = translation_adams_[v].second_moment();
+    out.insert(out.end(), r.begin(), r.end());
+    out.insert(out.end(), t.begin(), t.end());
+  }
+  return out;
+}
+
+std::vector<long long> PoseRefiner::steps() const {
+  std::vector<long long> out;
+  for (const FlatAdam& adam : rotation_adams_) out.push_back(adam.steps());
+  return out;
+}
+
+void PoseRefiner::restore(const std::vector<float>& parameters, const std::vector<float>& first_moments,
+                          const std::vector<float>& second_moments, const std::vector<long long>& steps) {
+  const std::size_t n = views() * kValues;
+  if (parameters.size() != n || first_moments.size() != n || second_moments.size() != n ||
+      steps.size() != views())
+    throw ArgumentError("pose corrections: expected " + std::to_string(views()) + " views of " +
+                        std::to_string(kValues) + " values");
+  for (const std::vector<float>* a : {&parameters, &first_moments, &second_moments})
+    for (float x : *a)
+      if (!std::isfinite(x)) throw ArgumentError("pose corrections: a value is not finite");
+  for (std::size_t v = 0; v < views(); ++v) {
+    if (steps[v] < 0) throw ArgumentError("pose corrections: a negative step count");
+    const float* p = &parameters[v * kValues];
+    for (int a = 0; a < kRotationValues; ++a) corrections_[v].rotation[a] = p[a];
+    for (int a = 0; a < kTranslationValues; ++a) corrections_[v].translation[a] = p[kRotationValues + a];
+    for (FlatAdam* adam : {&rotation_adams_[v], &translation_adams_[v]}) {
+      const std::size_t offset = v * kValues + (adam == &rotation_adams_[v] ? 0 : kRotationValues);
+      for (std::size_t a = 0; a < adam->size(); ++a) {
+        adam->first_moment()[a] = first_moments[offset + a];
+        adam->second_moment()[a] = second_moments[offset + a];
+      }
+      adam->set_steps(steps[v]);
+    }
+  }
+}
+
 PoseAlignmentResult align_pose(const GaussianModel& model, const Camera& camera, const Image& photo,
                                const RenderSettings& render, const PoseAlignmentSettings& settings,
                                float scene_extent, const PoseCorrection& start) {
+  PoseRefiner refiner(1, scene_extent);
+  refiner.restore({start.rotation[0], start.rotation[1], start.rotation[2], start.rotation[3],
+                   start.translation[0], start.translation[1], start.translation[2]},
+                  std::vector<float>(kValues, 0.0f), std::vector<float>(kValues, 0.0f), {0});
   PoseAlignmentResult result;
-  result.correction = start;
-  PoseCorrection& c = result.correction;
-  FlatAdam rotation_adam(4), translation_adam(3);
   Rasterizer rasterizer;
   RenderResult rendered;
   RasterGradients grads;
   grads.with_camera_pose = true;
   Image v_color;
   SsimScratch scratch;
-  // Steps on τ / extent, so that one learning rate suits scenes of any size.
-  const float extent = scene_extent > 0 ? scene_extent : 1.0f;
   for (int step = 0; step <= settings.steps; ++step) {
-    const Camera current = c.applied_to(camera);
+    const Camera current = refiner.camera(0, camera);
     rasterizer.render(model, current, render, rendered);
     const bool last = step == settings.steps;
     const LossValue loss =
@@ -39,18 +135,11 @@ PoseAlignmentResult align_pose(const GaussianModel& model, const Camera& camera,
     result.last_loss = loss.loss;
     if (last) break;
     rasterizer.backward(model, current, render, rendered, v_color, grads);
-    Vec4<float> v_q;
-    Vec3<float> v_tau;
-    apply_pose_correction_vjp(Vec4<float>(c.rotation), camera.camera_from_world_rotation,
-                              camera.camera_from_world_translation, grads.camera_pose.rotation,
-                              grads.camera_pose.translation, v_q, v_tau);
-    const float g_rotation[4] = {v_q[0], v_q[1], v_q[2], v_q[3]};
-    const float g_translation[3] = {v_tau[0] * extent, v_tau[1] * extent, v_tau[2] * extent};
-    float scaled_translation[3] = {c.translation[0] / extent, c.translation[1] / extent, c.translation[2] / extent};
-    rotation_adam.step({&c.rotation[0], 4}, g_rotation, settings.rotation_lr);
-    translation_adam.step(scaled_translation, g_translation, settings.translation_lr);
-    for (int a = 0; a < 3; ++a) c.translation[a] = scaled_translation[a] * extent;
+    const double fraction = settings.steps > 1 ? double(step) / double(settings.steps - 1) : 0.0;
+    const float decay = float(std::pow(double(settings.lr_final_factor), fraction));
+    refiner.step(0, camera, grads.camera_pose, {settings.lr.rotation * decay, settings.lr.translation * decay});
   }
+  result.correction = refiner.correction(0);
   return result;
 }
 

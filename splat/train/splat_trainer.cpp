@@ -52,6 +52,16 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
   strategy_ = make_density_strategy(config_, dataset.train.size(), model_.size());
   adam_.reset_like(model_);
   last_good_model_ = model_;
+  if (config_.refine_poses) {
+    for (float lr : {config_.pose_rotation_lr, config_.pose_translation_lr})
+      if (!(lr >= 0.0f && std::isfinite(lr)))
+        throw ArgumentError("pose refinement: pose_rotation_lr and pose_translation_lr must be finite and >= 0");
+    if (!(config_.pose_lr_final_factor > 0.0f && config_.pose_lr_final_factor <= 1.0f))
+      throw ArgumentError("pose refinement: pose_lr_final_factor must be in (0, 1]");
+    if (config_.test_pose_alignment_steps < 0) throw ArgumentError("test_pose_alignment_steps must be >= 0");
+    pose_refiner_ = PoseRefiner(dataset.train.size(), scene_extent_);
+    test_alignments_.assign(dataset.test.size(), PoseCorrection{});
+  }
 }
 
 std::size_t SplatTrainer::next_view() {
@@ -99,6 +109,23 @@ GroupLearningRates SplatTrainer::learning_rates() const {
   return lr;
 }
 
+PoseLearningRates SplatTrainer::pose_learning_rates() const {
+  const double fraction = schedule_iteration(iteration_ + 1) / double(config_.position_lr_max_steps);
+  const auto decayed = [&](float lr) {
+    if (lr == 0.0f) return 0.0f;
+    return float(ExponentialLrSchedule{lr, lr * config_.pose_lr_final_factor, 1}.at_fraction(std::min(1.0, fraction)));
+  };
+  return {decayed(config_.pose_rotation_lr), decayed(config_.pose_translation_lr)};
+}
+
+RenderSettings SplatTrainer::render_settings() const {
+  RenderSettings settings;
+  settings.sh_degree = active_sh_degree_;
+  std::copy(config_.background, config_.background + 3, settings.background);
+  settings.alpha_clamp_gradient = config_.alpha_clamp_gradient;
+  return settings;
+}
+
 StepResult SplatTrainer::step() {
   const int iteration = iteration_ + 1;  // 1-based, as train.py counts
   StepResult result;
@@ -107,13 +134,12 @@ StepResult SplatTrainer::step() {
   const std::size_t view = next_view();
   result.resolution_divisor = strategy_->resolution_divisor(iteration);
   const Image& target = training_image(view, result.resolution_divisor);
-  const Camera camera = result.resolution_divisor == 1
-                            ? dataset_.train[view].camera
-                            : dataset_.train[view].camera.resized(target.width, target.height);
-  RenderSettings settings;
-  settings.sh_degree = active_sh_degree_;
-  std::copy(config_.background, config_.background + 3, settings.background);
-  settings.alpha_clamp_gradient = config_.alpha_clamp_gradient;
+  const Camera recorded = result.resolution_divisor == 1
+                              ? dataset_.train[view].camera
+                              : dataset_.train[view].camera.resized(target.width, target.height);
+  const Camera camera = config_.refine_poses ? pose_refiner_.camera(view, recorded) : recorded;
+  const RenderSettings settings = render_settings();
+  grads_.with_camera_pose = config_.refine_poses && iteration >= config_.pose_refine_from;
 
   auto start = Clock::now();
   rasterizer_.render(model_, camera, settings, render_);
@@ -158,6 +184,7 @@ StepResult SplatTrainer::step() {
     active.opacity = !result.density.opacity_reset;
     adam_step(model_, grads_.params, adam_, lr, {}, active);
   }
+  if (grads_.with_camera_pose) pose_refiner_.step(view, recorded, grads_.camera_pose, pose_learning_rates());
   strategy_->step_post_optimizer(iteration, state, lr.means);
   // The cheap groups every iteration; SH coefficients (most of the data) less often: a NaN
   // there shows in the next loss anyway.
@@ -187,20 +214,34 @@ void SplatTrainer::check_parameters_finite() const {
 }
 
 Image SplatTrainer::render(const Camera& camera) const {
-  RenderSettings settings;
-  settings.sh_degree = active_sh_degree_;
-  std::copy(config_.background, config_.background + 3, settings.background);
   Rasterizer rasterizer;
   RenderResult result;
-  rasterizer.render(model_, camera, settings, result);
+  rasterizer.render(model_, camera, render_settings(), result);
   return clamped(result.color);
 }
 
 Evaluation SplatTrainer::evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) {
   Evaluation e;
   if (renders) renders->clear();
-  for (const DatasetView& view : views) {
-    Image image = render(view.camera);
+  // Under pose refinement the scene's frame has moved with the training poses: each view is
+  // first aligned to its photograph with the model fixed. The test views keep their
+  // alignment from one scoring to the next, so later scorings start close.
+  const bool keep_alignments = &views == &dataset_.test;
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    const DatasetView& view = views[k];
+    Camera camera = view.camera;
+    if (config_.refine_poses) {
+      PoseAlignmentSettings alignment;
+      alignment.steps = config_.test_pose_alignment_steps;
+      alignment.lr = {config_.pose_rotation_lr, config_.pose_translation_lr};
+      alignment.ssim_weight = config_.ssim_weight;
+      const PoseCorrection start = keep_alignments ? test_alignments_[k] : PoseCorrection{};
+      const PoseCorrection aligned =
+          align_pose(model_, view.camera, view.image, render_settings(), alignment, scene_extent_, start).correction;
+      if (keep_alignments) test_alignments_[k] = aligned;
+      camera = aligned.applied_to(view.camera);
+    }
+    Image image = render(camera);
     const double view_psnr = psnr(image, view.image);
     e.view_psnr.push_back(view_psnr);
     e.psnr += view_psnr;

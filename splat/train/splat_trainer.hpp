@@ -16,6 +16,7 @@
 #include "splat/optim/photometric_loss.hpp"
 #include "splat/raster/rasterizer.hpp"
 #include "splat/train/density_strategy.hpp"
+#include "splat/train/pose_alignment.hpp"
 #include "splat/train/training_config.hpp"
 
 namespace splat {
@@ -92,6 +93,10 @@ class SplatTrainer {
   const SplatTrainingConfig& config() const { return config_; }
   float scene_extent() const { return scene_extent_; }
   const DensityStrategy& strategy() const { return *strategy_; }
+  // Pose refinement's corrections of the training views (none without refine_poses) and the
+  // alignments of the test views as of the last evaluation.
+  const PoseRefiner& pose_refiner() const { return pose_refiner_; }
+  const std::vector<PoseCorrection>& test_alignments() const { return test_alignments_; }
 
   // The fraction of the run's time budget spent so far (the training loop sets it before
   // each step when there is a budget); schedules that follow the budget read it.
@@ -112,6 +117,8 @@ class SplatTrainer {
   // The training image of view `view` at 1/divisor of its size (built once, then kept).
   const Image& training_image(std::size_t view, int divisor);
   GroupLearningRates learning_rates() const;
+  PoseLearningRates pose_learning_rates() const;
+  RenderSettings render_settings() const;
   // How far the run's schedules (position step, growth and pruning phases) have advanced, in
   // the schedule's iterations: `iteration` itself, or under schedule_follows_budget the
   // iteration scaled from schedule_iterations to position_lr_max_steps, or the spent fraction
@@ -136,6 +143,8 @@ class SplatTrainer {
   Image v_image_;
   SsimScratch ssim_scratch_;
   std::vector<std::vector<Image>> reduced_images_;  // [divisor][view], empty until needed
+  PoseRefiner pose_refiner_;                        // [train view] under refine_poses
+  std::vector<PoseCorrection> test_alignments_;     // [test view] under refine_poses
 };
 
 }  // namespace splat

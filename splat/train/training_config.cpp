@@ -72,6 +72,12 @@ void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
   v("compact_opacity_regularization", k.opacity_regularization);
   v("compact_scale_regularization", k.scale_regularization);
   v("compact_noise_lr", k.noise_lr);
+  v("refine_poses", c.refine_poses);
+  v("pose_refine_from", c.pose_refine_from);
+  v("pose_rotation_lr", c.pose_rotation_lr);
+  v("pose_translation_lr", c.pose_translation_lr);
+  v("pose_lr_final_factor", c.pose_lr_final_factor);
+  v("test_pose_alignment_steps", c.test_pose_alignment_steps);
   v("test_interval", c.test_interval);
   v("checkpoint_interval", c.checkpoint_interval);
 }

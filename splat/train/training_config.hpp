@@ -60,6 +60,19 @@ struct SplatTrainingConfig {
   CompactSettings compact;           // the compact strategy's own settings
   AlphaClampGradient alpha_clamp_gradient = AlphaClampGradient::kZero;
 
+  // Pose refinement (--refine-poses; splat/train/pose_alignment.hpp): from iteration
+  // pose_refine_from on, each training view's pose carries a correction optimised with the
+  // scene (Adam, its rates decaying exponentially to pose_lr_final_factor of themselves over
+  // the schedule), and before they are scored the test views are aligned to their photographs
+  // by test_pose_alignment_steps pose-only steps with the model fixed (continuing from the
+  // previous scoring's alignment).
+  bool refine_poses = false;
+  int pose_refine_from = 500;
+  float pose_rotation_lr = 1e-3f;     // on the correction quaternion's components
+  float pose_translation_lr = 1e-3f;  // on the translation, in units of the scene extent
+  float pose_lr_final_factor = 0.01f;
+  int test_pose_alignment_steps = 30;
+
   int test_interval = 1000;          // iterations between test evaluations (0 = end only)
   int checkpoint_interval = 5000;    // iterations between checkpoints (0 = none)
 };

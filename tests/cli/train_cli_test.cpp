@@ -32,7 +32,8 @@ fs::path tiny_dataset() {
     test::write_text(d / "tiny_config.json", R"({"random_init_points": 4000, "densify_from_iter": 100,
       "densification_interval": 50, "opacity_reset_interval": 200, "densify_until_iter": 250,
       "compact_warmup_until": 60, "compact_grow_from": 100, "compact_grow_interval": 50,
-      "compact_grow_until": 250, "compact_prune_window": 50, "schedule_follows_budget": false})");
+      "compact_grow_until": 250, "compact_prune_window": 50, "schedule_follows_budget": false,
+      "pose_refine_from": 50})");
     return d;
   }();
   return dir;
@@ -124,6 +125,34 @@ TEST(TrainCli, ResumeContinuesExactly) {
     EXPECT_TRUE(test::read_file(dir / "straight" / "model.ply") == test::read_file(dir / "split" / "model.ply"))
         << strategy << ": the resumed run's model differs from the uninterrupted run's";
   }
+}
+
+// Pose refinement: the corrections are part of the run's state (a resumed run is the same
+// run, whatever the thread count), and metrics.json says how the test views were scored.
+TEST(TrainCli, PoseRefinementResumesExactlyAndReportsItsProtocol) {
+  const fs::path dir = test::scratch_dir("train_cli_refine_poses");
+  const std::string s = "--refine-poses --test-every 0 ";
+  auto r = test::run_command(train_command(dir / "straight", s + "--iters 240 --quiet --threads 2"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_command(train_command(dir / "split", s + "--iters 120 --checkpoint-every 120 --quiet --threads 1"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_command(
+      train_command(dir / "split", s + "--iters 240 --quiet --threads 2 --resume " + (dir / "split").string()), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(test::read_file(dir / "straight" / "model.ply") == test::read_file(dir / "split" / "model.ply"))
+      << "the resumed run's model differs from the uninterrupted run's";
+  const nlohmann::json m = read_json(dir / "straight" / "metrics.json");
+  ASSERT_TRUE(m.contains("pose_refinement")) << m.dump();
+  EXPECT_EQ(m["pose_refinement"]["training_views"], 12);
+  EXPECT_GT(m["pose_refinement"]["mean_rotation_correction_deg"].get<double>(), 0.0);  // it moved
+  EXPECT_NE(m["pose_refinement"]["test_protocol"].get<std::string>().find("aligned"), std::string::npos);
+  EXPECT_EQ(read_json(dir / "straight" / "config.json")["refine_poses"], true);
+  // The NeRF has no poses to refine.
+  r = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --data " + tiny_dataset().string() + " --out " +
+                            (dir / "nerf").string() + " --method nerf --refine-poses --iters 1",
+                        dir);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--refine-poses"), std::string::npos) << r.err;
 }
 
 // Without a span in the config, the schedule spans the run's --iters, recorded in
