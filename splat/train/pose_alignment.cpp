@@ -57,27 +57,18 @@ std::vector<float> PoseRefiner::parameters() const {
   return out;
 }
 
-std::vector<float> PoseRefiner::first_moments() const {
+std::vector<float> PoseRefiner::moments(const std::vector<float>& (FlatAdam::*moment)() const) const {
   std::vector<float> out;
-  for (std::size_t v = 0; v < views(); ++v) {
-    const auto& r = rotation_adams_[v].first_moment();
-    const auto& t = translation_adams_[v].first_moment();
-    out.insert(out.end(), r.begin(), r.end());
-    out.insert(out.end(), t.begin(), t.end());
-  }
+  for (std::size_t v = 0; v < views(); ++v)
+    for (const FlatAdam* adam : {&rotation_adams_[v], &translation_adams_[v]}) {
+      const std::vector<float>& m = (adam->*moment)();
+      out.insert(out.end(), m.begin(), m.end());
+    }
   return out;
 }
 
-std::vector<float> PoseRefiner::second_moments() const {
-  std::vector<float> out;
-  for (std::size_t v = 0; v < views(); ++v) {
-    const auto& r = rotation_adams_[v].second_moment();
-    const auto& t = translation_adams_[v].second_moment();
-    out.insert(out.end(), r.begin(), r.end());
-    out.insert(out.end(), t.begin(), t.end());
-  }
-  return out;
-}
+std::vector<float> PoseRefiner::first_moments() const { return moments(&FlatAdam::first_moment); }
+std::vector<float> PoseRefiner::second_moments() const { return moments(&FlatAdam::second_moment); }
 
 std::vector<long long> PoseRefiner::steps() const {
   std::vector<long long> out;

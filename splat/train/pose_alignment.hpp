@@ -59,6 +59,9 @@ class PoseRefiner {
                const std::vector<float>& second_moments, const std::vector<long long>& steps);
 
  private:
+  // One of Adam's moments of every view, 7 numbers per view.
+  std::vector<float> moments(const std::vector<float>& (FlatAdam::*moment)() const) const;
+
   float extent_ = 1.0f;
   std::vector<PoseCorrection> corrections_;
   std::vector<FlatAdam> rotation_adams_, translation_adams_;
