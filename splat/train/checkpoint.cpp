@@ -141,7 +141,6 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
   try {
     if (config_.refine_poses) {
       pose_refiner_ = PoseRefiner(dataset_.train.size(), scene_extent_);
-      test_alignments_.assign(dataset_.test.size(), PoseCorrection{});
       pose_refiner_.restore(pose_arrays[0], pose_arrays[1], pose_arrays[2],
                             header.at("pose_steps").get<std::vector<long long>>());
     }

@@ -60,7 +60,6 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
       throw ArgumentError("pose refinement: pose_lr_final_factor must be in (0, 1]");
     if (config_.test_pose_alignment_steps < 0) throw ArgumentError("test_pose_alignment_steps must be >= 0");
     pose_refiner_ = PoseRefiner(dataset.train.size(), scene_extent_);
-    test_alignments_.assign(dataset.test.size(), PoseCorrection{});
   }
 }
 
@@ -224,22 +223,17 @@ Evaluation SplatTrainer::evaluate(const std::vector<DatasetView>& views, std::ve
   Evaluation e;
   if (renders) renders->clear();
   // Under pose refinement the scene's frame has moved with the training poses: each view is
-  // first aligned to its photograph with the model fixed. The test views keep their
-  // alignment from one scoring to the next, so later scorings start close.
-  const bool keep_alignments = &views == &dataset_.test;
-  for (std::size_t k = 0; k < views.size(); ++k) {
-    const DatasetView& view = views[k];
+  // first aligned to its photograph with the model fixed, from its recorded pose every time
+  // (so a score depends only on the model, and a resumed run scores as an uninterrupted one).
+  for (const DatasetView& view : views) {
     Camera camera = view.camera;
     if (config_.refine_poses) {
       PoseAlignmentSettings alignment;
       alignment.steps = config_.test_pose_alignment_steps;
       alignment.lr = {config_.pose_rotation_lr, config_.pose_translation_lr};
       alignment.ssim_weight = config_.ssim_weight;
-      const PoseCorrection start = keep_alignments ? test_alignments_[k] : PoseCorrection{};
-      const PoseCorrection aligned =
-          align_pose(model_, view.camera, view.image, render_settings(), alignment, scene_extent_, start).correction;
-      if (keep_alignments) test_alignments_[k] = aligned;
-      camera = aligned.applied_to(view.camera);
+      camera = align_pose(model_, view.camera, view.image, render_settings(), alignment, scene_extent_)
+                   .correction.applied_to(view.camera);
     }
     Image image = render(camera);
     const double view_psnr = psnr(image, view.image);

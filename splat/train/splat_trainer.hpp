@@ -93,10 +93,8 @@ class SplatTrainer {
   const SplatTrainingConfig& config() const { return config_; }
   float scene_extent() const { return scene_extent_; }
   const DensityStrategy& strategy() const { return *strategy_; }
-  // Pose refinement's corrections of the training views (none without refine_poses) and the
-  // alignments of the test views as of the last evaluation.
+  // Pose refinement's corrections of the training views (none without refine_poses).
   const PoseRefiner& pose_refiner() const { return pose_refiner_; }
-  const std::vector<PoseCorrection>& test_alignments() const { return test_alignments_; }
 
   // The fraction of the run's time budget spent so far (the training loop sets it before
   // each step when there is a budget); schedules that follow the budget read it.
@@ -144,7 +142,6 @@ class SplatTrainer {
   SsimScratch ssim_scratch_;
   std::vector<std::vector<Image>> reduced_images_;  // [divisor][view], empty until needed
   PoseRefiner pose_refiner_;                        // [train view] under refine_poses
-  std::vector<PoseCorrection> test_alignments_;     // [test view] under refine_poses
 };
 
 }  // namespace splat
