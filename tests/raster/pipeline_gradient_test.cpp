@@ -117,21 +117,38 @@ struct GroupSpan {
   std::size_t first, count;
 };
 
+// The rasterizer's render and gradients for L = Σ W·I, W random from `seed` (the pose's too
+// when `with_camera_pose`), on a coloured background.
+struct AnalyticGradients {
+  RenderSettings settings;
+  std::vector<double> weights;
+  RenderResult forward;
+  RasterGradients grads;
+};
+
+AnalyticGradients analytic_gradients(const GaussianModel& model, const Camera& camera, unsigned seed,
+                                     bool with_camera_pose) {
+  AnalyticGradients a;
+  a.settings.background[0] = 0.1f;
+  a.settings.background[1] = 0.7f;
+  a.settings.background[2] = 0.4f;
+  a.weights = test::random_vector(std::size_t(3) * camera.width * camera.height, seed);
+  Rasterizer rasterizer;
+  rasterizer.render(model, camera, a.settings, a.forward);
+  Image v_color(camera.width, camera.height, 3);
+  for (std::size_t i = 0; i < a.weights.size(); ++i) v_color.data[i] = float(a.weights[i]);
+  a.grads.with_camera_pose = with_camera_pose;
+  rasterizer.backward(model, camera, a.settings, a.forward, v_color, a.grads);
+  return a;
+}
+
 void check_pipeline_gradient(const GaussianModel& model, const Camera& camera, unsigned seed,
                              const std::string& what) {
-  RenderSettings settings;
-  settings.background[0] = 0.1f;
-  settings.background[1] = 0.7f;
-  settings.background[2] = 0.4f;
-  const std::vector<double> weights = test::random_vector(std::size_t(3) * camera.width * camera.height, seed);
-  Rasterizer rasterizer;
-  RenderResult forward;
-  rasterizer.render(model, camera, settings, forward);
-  Image v_color(camera.width, camera.height, 3);
-  for (std::size_t i = 0; i < weights.size(); ++i) v_color.data[i] = float(weights[i]);
-  RasterGradients grads;
-  rasterizer.backward(model, camera, settings, forward, v_color, grads);
-  const std::vector<double> analytic = flatten(grads.params);
+  const AnalyticGradients a = analytic_gradients(model, camera, seed, false);
+  const RenderSettings& settings = a.settings;
+  const std::vector<double>& weights = a.weights;
+  const RenderResult& forward = a.forward;
+  const std::vector<double> analytic = flatten(a.grads.params);
 
   const std::vector<double> x = flatten(model);
   const std::size_t n = model.size();
@@ -194,19 +211,10 @@ TEST(PipelineGradient, GaussiansAcrossTheImageBorder) {
 // The gradient of the camera's pose, through a correction (quaternion q, translation τ)
 // applied to it, against central differences of the double reference render.
 void check_pose_gradient(const GaussianModel& model, const Camera& camera, unsigned seed, const std::string& what) {
-  RenderSettings settings;
-  settings.background[0] = 0.1f;
-  settings.background[1] = 0.7f;
-  settings.background[2] = 0.4f;
-  const std::vector<double> weights = test::random_vector(std::size_t(3) * camera.width * camera.height, seed);
-  Rasterizer rasterizer;
-  RenderResult forward;
-  rasterizer.render(model, camera, settings, forward);
-  Image v_color(camera.width, camera.height, 3);
-  for (std::size_t i = 0; i < weights.size(); ++i) v_color.data[i] = float(weights[i]);
-  RasterGradients grads;
-  grads.with_camera_pose = true;
-  rasterizer.backward(model, camera, settings, forward, v_color, grads);
+  const AnalyticGradients a = analytic_gradients(model, camera, seed, true);
+  const RenderSettings& settings = a.settings;
+  const std::vector<double>& weights = a.weights;
+  const RasterGradients& grads = a.grads;
 
   const Mat3<double> rotation0(camera.camera_from_world_rotation);
   const Vec3<double> translation0(camera.camera_from_world_translation);

@@ -23,14 +23,20 @@ double angle_between_deg(const glm::mat3& a, const glm::mat3& b) {
   return std::atan2(sine, cosine) * 180.0 / 3.14159265358979323846;
 }
 
+// The photograph `camera` takes of `model`: its render.
+Image photograph(const GaussianModel& model, const Camera& camera) {
+  Rasterizer rasterizer;
+  RenderResult photo;
+  rasterizer.render(model, camera, RenderSettings{}, photo);
+  return photo.color;
+}
+
 TEST(PoseAlignment, RecoversAKnownPerturbation) {
   GaussianModel model = test::random_model(400, 1, 5, 1.0f, 0.03f, 0.15f);
   for (float& o : model.opacity_logits) o = 2.0f;
   const Camera truth = test::looking_at_origin(64, 48, 3.0f, 0.8f);
-  RenderSettings render;
-  Rasterizer rasterizer;
-  RenderResult photo;
-  rasterizer.render(model, truth, render, photo);
+  const RenderSettings render;
+  const Image photo = photograph(model, truth);
 
   // 2 degrees about a tilted axis and 1 % of the camera distance off.
   PoseCorrection error;
@@ -45,7 +51,7 @@ TEST(PoseAlignment, RecoversAKnownPerturbation) {
 
   PoseAlignmentSettings settings;
   settings.steps = 200;
-  const PoseAlignmentResult result = align_pose(model, wrong, photo.color, render, settings, 3.0f);
+  const PoseAlignmentResult result = align_pose(model, wrong, photo, render, settings, 3.0f);
   const Camera aligned = result.correction.applied_to(wrong);
   const double angle_after = angle_between_deg(aligned.camera_from_world_rotation, truth.camera_from_world_rotation);
   const double offset_after = glm::length(aligned.center_in_world() - truth.center_in_world());
@@ -59,13 +65,10 @@ TEST(PoseAlignment, RecoversAKnownPerturbation) {
 TEST(PoseAlignment, LeavesTheRightPoseAlone) {
   GaussianModel model = test::random_model(300, 1, 6, 1.0f, 0.03f, 0.15f);
   const Camera truth = test::looking_at_origin(48, 40, 3.0f, 0.8f);
-  RenderSettings render;
-  Rasterizer rasterizer;
-  RenderResult photo;
-  rasterizer.render(model, truth, render, photo);
   PoseAlignmentSettings settings;
   settings.steps = 50;
-  const Camera aligned = align_pose(model, truth, photo.color, render, settings, 3.0f).correction.applied_to(truth);
+  const Camera aligned =
+      align_pose(model, truth, photograph(model, truth), RenderSettings{}, settings, 3.0f).correction.applied_to(truth);
   EXPECT_LT(angle_between_deg(aligned.camera_from_world_rotation, truth.camera_from_world_rotation), 0.05);
   EXPECT_LT(glm::length(aligned.center_in_world() - truth.center_in_world()), 2e-3);
 }
