@@ -101,32 +101,24 @@ inline f32v max(f32v a, f32v b) {
 #endif
 }
 
+// A scalar function applied to every lane, one lane at a time (for what has no instruction:
+// libm's exp and log, which the vector code must match bit for bit).
+inline f32v per_lane(f32v x, float (*f)(float)) {
+  for (int i = 0; i < kLanes; ++i) x[i] = f(x[i]);
+  return x;
+}
+
 // Lane-wise sqrt, floor, ceil and fused a·b + c: exactly what std::sqrt, std::floor,
 // std::ceil and std::fma give each lane (IEEE operations, correctly rounded).
-inline f32v sqrt(f32v x) {
 #if defined(__AVX__)
-  return reinterpret_cast<f32v>(_mm256_sqrt_ps(reinterpret_cast<__m256>(x)));
+inline f32v sqrt(f32v x) { return reinterpret_cast<f32v>(_mm256_sqrt_ps(reinterpret_cast<__m256>(x))); }
+inline f32v floor(f32v x) { return reinterpret_cast<f32v>(_mm256_floor_ps(reinterpret_cast<__m256>(x))); }
+inline f32v ceil(f32v x) { return reinterpret_cast<f32v>(_mm256_ceil_ps(reinterpret_cast<__m256>(x))); }
 #else
-  for (int i = 0; i < kLanes; ++i) x[i] = __builtin_sqrtf(x[i]);
-  return x;
+inline f32v sqrt(f32v x) { return per_lane(x, [](float v) { return __builtin_sqrtf(v); }); }
+inline f32v floor(f32v x) { return per_lane(x, [](float v) { return __builtin_floorf(v); }); }
+inline f32v ceil(f32v x) { return per_lane(x, [](float v) { return __builtin_ceilf(v); }); }
 #endif
-}
-inline f32v floor(f32v x) {
-#if defined(__AVX__)
-  return reinterpret_cast<f32v>(_mm256_floor_ps(reinterpret_cast<__m256>(x)));
-#else
-  for (int i = 0; i < kLanes; ++i) x[i] = __builtin_floorf(x[i]);
-  return x;
-#endif
-}
-inline f32v ceil(f32v x) {
-#if defined(__AVX__)
-  return reinterpret_cast<f32v>(_mm256_ceil_ps(reinterpret_cast<__m256>(x)));
-#else
-  for (int i = 0; i < kLanes; ++i) x[i] = __builtin_ceilf(x[i]);
-  return x;
-#endif
-}
 inline f32v fma(f32v a, f32v b, f32v c) {
 #if defined(__FMA__)
   return reinterpret_cast<f32v>(_mm256_fmadd_ps(reinterpret_cast<__m256>(a), reinterpret_cast<__m256>(b),

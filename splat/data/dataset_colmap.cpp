@@ -2,6 +2,7 @@
 // Poses are world-to-camera in OpenCV axes, the internal convention, and COLMAP puts the
 // centre of the top-left pixel at (0.5, 0.5) as we do, so intrinsics carry over unchanged.
 #include <algorithm>
+#include <map>
 #include <array>
 #include <cmath>
 #include <string>
@@ -87,6 +88,22 @@ Dataset load_colmap(const fs::path& folder, const fs::path& sparse_dir,
   std::sort(images.begin(), images.end(),
             [](const ColmapImage* a, const ColmapImage* b) { return a->name < b->name; });
 
+  // Each distorting camera's pinhole image, less the border its lens does not cover: the
+  // same for every view of the camera, so found once per camera.
+  std::map<std::uint32_t, PixelRect> covered_regions;
+  for (const ColmapCamera& camera : model.cameras) {
+    const Intrinsics intrinsics = intrinsics_of(camera);
+    if (intrinsics.distortion.is_identity()) continue;
+    const PixelRect covered = covered_region(intrinsics.camera, intrinsics.distortion);
+    if (covered.width < camera.width / 2 || covered.height < camera.height / 2)
+      throw InputError(model.cameras_file,
+                       "camera " + std::to_string(camera.id) + ": its distortion leaves only " +
+                           std::to_string(covered.width) + " x " + std::to_string(covered.height) + " of the " +
+                           std::to_string(camera.width) + " x " + std::to_string(camera.height) +
+                           " image covered");
+    covered_regions[camera.id] = covered;
+  }
+
   std::vector<DatasetView> views(images.size());
   for_each_in_parallel(images.size(), [&](std::size_t i) {
     const ColmapImage& image = *images[i];
@@ -103,15 +120,8 @@ Dataset load_colmap(const fs::path& folder, const fs::path& sparse_dir,
                           model.cameras_file.string() + " (camera " +
                               std::to_string(image.camera_id) + ")",
                           options.background);
-    if (!intrinsics.distortion.is_identity()) {
-      // The photo through a pinhole, less the border the lens does not cover.
-      const PixelRect covered = covered_region(view.camera, intrinsics.distortion);
-      if (covered.width < view.camera.width / 2 || covered.height < view.camera.height / 2)
-        throw InputError(model.cameras_file,
-                         "camera " + std::to_string(image.camera_id) + ": its distortion leaves only " +
-                             std::to_string(covered.width) + " x " + std::to_string(covered.height) +
-                             " of the " + std::to_string(view.camera.width) + " x " +
-                             std::to_string(view.camera.height) + " image covered");
+    if (!intrinsics.distortion.is_identity()) {  // the photo through a pinhole, cut to its cover
+      const PixelRect& covered = covered_regions.at(image.camera_id);
       view.image = crop_image(undistort_image(view.image, view.camera, intrinsics.distortion,
                                               options.background),
                               covered);

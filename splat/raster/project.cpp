@@ -77,10 +77,6 @@ LaneMat3 broadcast(const glm::mat3& a) {  // glm is [column][row]
   return r;
 }
 
-f32v per_lane(f32v x, float (*f)(float)) {
-  for (int l = 0; l < kLanes; ++l) x[l] = f(x[l]);
-  return x;
-}
 float exp_of(float x) { return std::exp(x); }
 float log_of(float x) { return std::log(x); }
 
@@ -197,7 +193,7 @@ std::uint32_t project_lanes(const GaussianModel& model, std::size_t first, int l
   i32v projected = z > kNearPlane;  // also drops a NaN position
 
   f32v scale[3];
-  for (int k = 0; k < 3; ++k) scale[k] = per_lane(g.log_scale[k], exp_of);
+  for (int k = 0; k < 3; ++k) scale[k] = simd::per_lane(g.log_scale[k], exp_of);
   const LaneMat3 cov3d = covariance_of(scale, rotation_of(g.quat));
 
   // covariance_2d with projection_jacobian.
@@ -233,7 +229,7 @@ std::uint32_t project_lanes(const GaussianModel& model, std::size_t first, int l
   const LaneTileRect rect = reference_tile_rects(center_x, center_y, radius, cam.grid);
   projected &= (rect.x1 != rect.x0) & (rect.y1 != rect.y0);
 
-  const f32v opacity = 1.0f / (1.0f + per_lane(-g.opacity_logit, exp_of));  // sigmoid
+  const f32v opacity = 1.0f / (1.0f + simd::per_lane(-g.opacity_logit, exp_of));  // sigmoid
   const f32v to_x = g.mean[0] - cam.center.x, to_y = g.mean[1] - cam.center.y, to_z = g.mean[2] - cam.center.z;
   const f32v inv_length = 1.0f / simd::sqrt(to_x * to_x + to_y * to_y + to_z * to_z);  // glm::normalize
   dir[0] = to_x * inv_length;
@@ -243,7 +239,7 @@ std::uint32_t project_lanes(const GaussianModel& model, std::size_t first, int l
   // α = o·exp(−q/2) ≥ kMinAlpha exactly where q ≤ 2 ln(o / kMinAlpha); the box around
   // that ellipse is ±sqrt(q_max · Σ'ᵢᵢ). Outside it nothing is blended, so only tiles
   // (and, in blending, pixels) inside it need visiting. A small margin absorbs rounding.
-  const f32v q_max = 2.0f * per_lane(opacity / kMinAlpha, log_of);
+  const f32v q_max = 2.0f * simd::per_lane(opacity / kMinAlpha, log_of);
   const i32v reaches = q_max > 0.0f;  // else too transparent to ever reach kMinAlpha
   constexpr float kRelativeMargin = 1e-3f, kAbsoluteMargin = 1e-2f;
   f32v extent_x = simd::sqrt(q_max * xx) * (1 + kRelativeMargin) + kAbsoluteMargin;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "splat/core/error.hpp"
 #include "splat/optim/photometric_loss.hpp"
@@ -91,8 +92,10 @@ void PoseRefiner::restore(const std::vector<float>& parameters, const std::vecto
     const float* p = &parameters[v * kValues];
     for (int a = 0; a < kRotationValues; ++a) corrections_[v].rotation[a] = p[a];
     for (int a = 0; a < kTranslationValues; ++a) corrections_[v].translation[a] = p[kRotationValues + a];
-    for (FlatAdam* adam : {&rotation_adams_[v], &translation_adams_[v]}) {
-      const std::size_t offset = v * kValues + (adam == &rotation_adams_[v] ? 0 : kRotationValues);
+    // Each view's 7 values: the rotation's 4 moments, then the translation's 3.
+    const std::pair<FlatAdam*, std::size_t> adams[] = {{&rotation_adams_[v], v * kValues},
+                                                       {&translation_adams_[v], v * kValues + kRotationValues}};
+    for (const auto& [adam, offset] : adams) {
       for (std::size_t a = 0; a < adam->size(); ++a) {
         adam->first_moment()[a] = first_moments[offset + a];
         adam->second_moment()[a] = second_moments[offset + a];
@@ -106,9 +109,7 @@ PoseAlignmentResult align_pose(const GaussianModel& model, const Camera& camera,
                                const RenderSettings& render, const PoseAlignmentSettings& settings,
                                float scene_extent, const PoseCorrection& start) {
   PoseRefiner refiner(1, scene_extent);
-  refiner.restore({start.rotation[0], start.rotation[1], start.rotation[2], start.rotation[3],
-                   start.translation[0], start.translation[1], start.translation[2]},
-                  std::vector<float>(kValues, 0.0f), std::vector<float>(kValues, 0.0f), {0});
+  refiner.set_correction(0, start);
   PoseAlignmentResult result;
   Rasterizer rasterizer;
   RenderResult rendered;

@@ -43,6 +43,8 @@ class PoseRefiner {
   const PoseCorrection& correction(std::size_t view) const { return corrections_[view]; }
   // `base` (view `view`'s recorded camera, at any image size) with the correction applied.
   Camera camera(std::size_t view, const Camera& base) const { return corrections_[view].applied_to(base); }
+  // Starts view `view` from `correction` (its Adam state unchanged).
+  void set_correction(std::size_t view, const PoseCorrection& correction) { corrections_[view] = correction; }
 
   // One Adam step of view `view`'s correction, from ∂L/∂pose of a render with camera(view, base).
   void step(std::size_t view, const Camera& base, const CameraPoseGradient& gradient,
