@@ -18,6 +18,11 @@ struct PoseNoiseLevel {
   double rotation_deg, translation_fraction;  // of the scene extent
 };
 
+// The kinds of stability condition, as --stability-conditions names them: all training views;
+// the same with pose refinement (splat methods only); fewer views; pose noise; pose noise with
+// refinement (splat methods only); random initialisation.
+inline const char* const kStabilityKinds[] = {"baseline", "views", "pose-noise", "refinement", "random-init"};
+
 enum class EvalMode { kComparison, kStability, kGaussianSweep };
 
 struct EvalCommandOptions {
@@ -32,7 +37,9 @@ struct EvalCommandOptions {
   NerfTrainingConfig nerf_config;
   DatasetOptions dataset;
   bool quiet = false;
-  // Stability conditions: training views kept, and pose noise levels.
+  // Stability conditions: which kinds run (kStabilityKinds), training views kept, and pose
+  // noise levels.
+  std::vector<std::string> stability_kinds;  // empty: all
   std::vector<int> stability_views = {8, 16, 32};
   std::vector<PoseNoiseLevel> pose_noise_levels = {{0.25, 0.0025}, {1.0, 0.01}, {3.0, 0.03}};
   std::vector<std::size_t> sweep_gaussians;  // the sweep's Gaussian budgets

@@ -1,5 +1,6 @@
 // splat-eval --data DIR --out DIR [--methods LIST] [--max-seconds S]
 //            [--stability | --sweep-gaussians N,N,...] [--threads N] [--eval-every-seconds T] ...
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <vector>
@@ -38,10 +39,13 @@ Writes into --out:
 
 With --stability, instead: the methods (default splat and nerf) under each condition (all
 training views; only 8, 16, 32 of them; training poses turned 0.25/1/3 degrees and moved
-0.25/1/3 % of the scene extent; random initialisation when the data has a point cloud), each
-trained S seconds and scored once, into stability.json (PSNR, SSIM, time, model size and a
-verdict per run: diverged, collapsed = no better than the background alone + 1 dB, degraded =
-over 3 dB below the method's all-views run, else ok) and stability/<condition>/<method>/.
+0.25/1/3 % of the scene extent; random initialisation when the data has a point cloud; and,
+for the splat methods only, all views and each pose noise level again with --refine-poses,
+whose test views are aligned to their photographs with the model fixed before they are
+scored), each trained S seconds and scored once, into stability.json (PSNR, SSIM, time, model
+size and a verdict per run: diverged, collapsed = no better than the background alone + 1 dB,
+degraded = over 3 dB below the method's all-views run, else ok) and
+stability/<condition>/<method>/.
 
 With --sweep-gaussians N,N,..., instead: one splat method (splat, i.e. compact, unless
 --methods splat-official) under each Gaussian budget for S seconds, into sweep.json (PSNR,
@@ -57,6 +61,10 @@ can share one folder and one report. --report (with --out only) just redraws the
   --max-seconds S             training budget per run in seconds (default 600)
   --stability                 run the stability conditions (see above)
   --stability-views N,N,...   training views kept in the fewer-views conditions (default 8,16,32)
+  --stability-conditions L    the kinds of condition to run, from baseline, views, pose-noise,
+                              refinement, random-init (default all)
+  --pose-noise D,D,...        pose noise levels: D degrees and D % of the scene extent
+                              (default 0.25,1,3)
   --sweep-gaussians N,N,...   run the Gaussian budget sweep with these budgets
   --eval-every-seconds T      score the test views every T seconds of training (default S/10)
   --threads N                 worker threads for every method (default: all cores)
@@ -103,7 +111,7 @@ int main(int argc, char** argv) {
     splat::cli::ArgParser args(argc, argv,
                                {"data", "out", "methods", "max-seconds", "eval-every-seconds", "threads",
                                 "bg", "downscale", "splat-config", "nerf-config", "sweep-gaussians",
-                                "stability-views"},
+                                "stability-views", "stability-conditions", "pose-noise"},
                                {"help", "quiet", "stability", "report"});
     if (args.has("help")) {
       std::fputs(kUsage, stdout);
@@ -135,6 +143,27 @@ int main(int argc, char** argv) {
       throw splat::ArgumentError("--stability and --sweep-gaussians are separate runs; give one");
     if (args.has("stability")) options.mode = splat::cli::EvalMode::kStability;
     if (auto list = args.value("stability-views")) options.stability_views = positive_list<int>(*list, "--stability-views");
+    if (auto list = args.value("stability-conditions")) {
+      options.stability_kinds = comma_separated(*list);
+      for (const std::string& kind : options.stability_kinds)
+        if (std::find(std::begin(splat::cli::kStabilityKinds), std::end(splat::cli::kStabilityKinds), kind) ==
+            std::end(splat::cli::kStabilityKinds))
+          throw splat::ArgumentError("--stability-conditions: unknown kind '" + kind +
+                                     "' (baseline, views, pose-noise, refinement, random-init)");
+    }
+    if (auto list = args.value("pose-noise")) {
+      options.pose_noise_levels.clear();
+      for (const std::string& word : comma_separated(*list)) {
+        char* rest = nullptr;
+        const double degrees = std::strtod(word.c_str(), &rest);
+        if (word.empty() || *rest != '\0' || !(degrees > 0 && degrees <= 90))
+          throw splat::ArgumentError("--pose-noise expects degrees in (0, 90] separated by commas, got '" + *list + "'");
+        options.pose_noise_levels.push_back({degrees, degrees / 100.0});
+      }
+    }
+    if ((args.value("stability-conditions") || args.value("pose-noise") || args.value("stability-views")) &&
+        !args.has("stability"))
+      throw splat::ArgumentError("--stability-conditions, --pose-noise and --stability-views need --stability");
     if (auto list = args.value("sweep-gaussians")) {
       options.mode = splat::cli::EvalMode::kGaussianSweep;
       options.sweep_gaussians = positive_list<std::size_t>(*list, "--sweep-gaussians");

@@ -112,8 +112,9 @@ MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, Ev
     progress.report("rendering", trained_seconds, trainer->iteration(), true);
     fs::create_directories(request.out_dir / "test");
     for (const DatasetView& view : dataset.test) {
+      const Camera camera = trainer->scoring_camera(view);
       const auto render_start = Clock::now();
-      run.renders.push_back(trainer->render(view.camera));
+      run.renders.push_back(trainer->render(camera));
       render_ms.push_back(1000.0 * seconds_since(render_start));
       write_png(run.renders.back(), request.out_dir / "test" / (view.name + ".png"));
     }
@@ -134,6 +135,9 @@ MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, Ev
   j["stopped_by"] = stop_reason_name(result.stopped_by);
   if (request.render_test_views) j["render_ms_per_view_median"] = median(render_ms);
   j["config"] = trainer->config_json();
+  nlohmann::json metrics;
+  trainer->add_metrics(metrics);
+  if (metrics.contains("pose_refinement")) j["pose_refinement"] = metrics["pose_refinement"];
   char line[200];
   std::snprintf(line, sizeof(line), "[%s] done: %d iterations in %s, test PSNR %.3f dB, SSIM %.4f",
                 request.method.c_str(), trainer->iteration(), format_duration(trained_seconds).c_str(),

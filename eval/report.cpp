@@ -127,11 +127,16 @@ void stability_section(std::ostream& html, const fs::path& out, const json& s) {
        << " s and was scored on the unchanged test views. Verdicts:</p>\n<ul>\n";
   for (const char* verdict : {"diverged", "collapsed", "degraded", "ok"})
     html << "<li><b>" << verdict << "</b>: " << escaped(s["rules"][verdict]) << "</li>\n";
-  // The columns: the methods of the first condition that ran (every condition runs the same).
+  // The columns: every method that ran, in the order they first appear (the refinement rows
+  // run only the splat methods).
   std::vector<std::string> methods;
+  std::string protocol;  // how refined runs were scored
   for (const json& c : s.at("conditions"))
-    if (methods.empty() && c.contains("runs"))
-      for (const json& r : c["runs"]) methods.push_back(method_label(r));
+    for (const json& r : c.value("runs", json::array())) {
+      if (std::find(methods.begin(), methods.end(), method_label(r)) == methods.end())
+        methods.push_back(method_label(r));
+      if (r.contains("pose_refinement")) protocol = r["pose_refinement"].value("test_protocol", "");
+    }
   html << "</ul>\n<table><tr><th>condition</th><th>training views</th>";
   for (const std::string& m : methods)
     html << "<th>" << escaped(m) << " PSNR (dB)</th><th>" << escaped(m) << " verdict</th><th>" << escaped(m)
@@ -144,7 +149,14 @@ void stability_section(std::ostream& html, const fs::path& out, const json& s) {
       continue;
     }
     html << "<td>" << c["train_views"] << "</td>";
-    for (const json& r : c["runs"]) {
+    for (const std::string& m : methods) {
+      const auto run = std::find_if(c["runs"].begin(), c["runs"].end(),
+                                    [&](const json& r) { return method_label(r) == m; });
+      if (run == c["runs"].end()) {
+        html << "<td colspan=\"3\">not run</td>";
+        continue;
+      }
+      const json& r = *run;
       const std::string verdict = r["verdict"];
       const std::string shown = r.contains("diverged")
                                     ? "diverged at iteration " + r["diverged"]["iteration"].dump()
@@ -156,6 +168,10 @@ void stability_section(std::ostream& html, const fs::path& out, const json& s) {
     html << "</tr>\n";
   }
   html << "</table>\n";
+  if (!protocol.empty())
+    html << "<p>Rows marked &ldquo;+ refinement&rdquo; trained with <code>--refine-poses</code>: " << escaped(protocol)
+         << ". The pose noise rows are trained on the perturbed poses; every row is scored against the same test "
+            "views.</p>\n";
   chart(html, out, "stability_psnr");
 }
 

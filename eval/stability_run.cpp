@@ -1,5 +1,7 @@
 #include <cstdio>
+#include <algorithm>
 #include <functional>
+#include <map>
 #include <tbb/info.h>
 
 #include "eval_methods.hpp"
@@ -16,10 +18,26 @@ namespace {
 struct Condition {
   std::string id;    // folder name under stability/
   std::string name;  // as the table shows it
-  std::string kind;  // baseline | views | pose noise | initialisation
+  std::string kind;  // baseline | views | pose noise | initialisation, "+ refinement" for refine
   std::string skipped;
   std::function<Dataset()> make;
+  bool refine_poses = false;  // splat methods only, with --refine-poses
 };
+
+bool wanted(const EvalCommandOptions& options, const std::string& kind) {
+  return options.stability_kinds.empty() ||
+         std::find(options.stability_kinds.begin(), options.stability_kinds.end(), kind) !=
+             options.stability_kinds.end();
+}
+
+// The condition trained again with pose refinement (kind "refinement").
+Condition refined(Condition c) {
+  c.id += "_refine";
+  c.name += " + refinement";
+  c.kind += " + refinement";
+  c.refine_poses = true;
+  return c;
+}
 
 std::string format(const char* pattern, double a, double b = 0) {
   char text[120];
@@ -30,8 +48,11 @@ std::string format(const char* pattern, double a, double b = 0) {
 std::vector<Condition> conditions_for(const EvalCommandOptions& options, const Dataset& dataset) {
   const int views = int(dataset.train.size());
   std::vector<Condition> list;
-  list.push_back({"baseline", "all " + std::to_string(views) + " views", "baseline", "", [&] { return dataset; }});
-  for (int n : options.stability_views) {
+  const bool refinement = wanted(options, "refinement");
+  const Condition all{"baseline", "all " + std::to_string(views) + " views", "baseline", "", [&] { return dataset; }};
+  if (wanted(options, "baseline")) list.push_back(all);
+  if (refinement) list.push_back(refined(all));
+  for (int n : wanted(options, "views") ? options.stability_views : std::vector<int>{}) {
     Condition c{"views_" + std::to_string(n), std::to_string(n) + " views", "views", "", {}};
     if (n >= views)
       c.skipped = "the dataset has only " + std::to_string(views) + " training views";
@@ -40,21 +61,31 @@ std::vector<Condition> conditions_for(const EvalCommandOptions& options, const D
     list.push_back(c);
   }
   for (const PoseNoiseLevel& level : options.pose_noise_levels) {
-    list.push_back({format("pose_noise_%gdeg_%gpct", level.rotation_deg, 100 * level.translation_fraction),
-                    format("poses %g° / %g%%", level.rotation_deg, 100 * level.translation_fraction),
-                    "pose noise", "",
-                    // The seed of the splat settings (the presets share it), whichever methods run.
-                    [&dataset, level, seed = method_request(options, "splat", {}).splat_config.seed] {
-                      return with_pose_noise(dataset, level.rotation_deg, level.translation_fraction, seed + 1);
-                    }});
+    const Condition noisy{
+        format("pose_noise_%gdeg_%gpct", level.rotation_deg, 100 * level.translation_fraction),
+        format("poses %g° / %g%%", level.rotation_deg, 100 * level.translation_fraction), "pose noise", "",
+        // The seed of the splat settings (the presets share it), whichever methods run.
+        [&dataset, level, seed = method_request(options, "splat", {}).splat_config.seed] {
+          return with_pose_noise(dataset, level.rotation_deg, level.translation_fraction, seed + 1);
+        }};
+    if (wanted(options, "pose-noise")) list.push_back(noisy);
+    if (refinement) list.push_back(refined(noisy));
   }
   Condition random{"random_init", "random initialisation", "initialisation", "", {}};
   if (dataset.points)
     random.make = [&dataset] { return without_point_cloud(dataset); };
   else
     random.skipped = "the dataset has no point cloud: its baseline already starts from random points";
-  list.push_back(random);
+  if (wanted(options, "random-init")) list.push_back(random);
   return list;
+}
+
+// The methods a condition trains: pose refinement is the splat methods' alone.
+std::vector<std::string> methods_for(const Condition& condition, const std::vector<std::string>& methods) {
+  std::vector<std::string> chosen;
+  for (const std::string& method : methods)
+    if (!condition.refine_poses || splat_strategy(method)) chosen.push_back(method);
+  return chosen;
 }
 
 }  // namespace
@@ -62,18 +93,18 @@ std::vector<Condition> conditions_for(const EvalCommandOptions& options, const D
 void run_stability(const EvalCommandOptions& options, const Dataset& dataset) {
   const std::vector<std::string> methods = methods_to_run(options);
   const std::vector<Condition> conditions = conditions_for(options, dataset);
-  int runnable = 0;
-  for (const Condition& c : conditions) runnable += c.skipped.empty() ? 1 : 0;
-  EvalProgress progress(options.quiet, int(methods.size()) * runnable, options.max_seconds, 1);
+  int runs = 0;
+  for (const Condition& c : conditions) runs += c.skipped.empty() ? int(methods_for(c, methods).size()) : 0;
+  EvalProgress progress(options.quiet, runs, options.max_seconds, 1);
   std::string method_list;
   for (const std::string& method : methods) method_list += (method_list.empty() ? "" : ", ") + method;
-  progress.message("stability on " + options.data.string() + ": " + std::to_string(runnable) + " conditions, " +
+  progress.message("stability on " + options.data.string() + ": " + std::to_string(runs) + " runs of " +
                    method_list + ", " + format_duration(options.max_seconds) + " each");
 
   const VerdictRules rules;
   const double background_psnr = background_only_psnr(dataset.test, options.dataset.background);
   nlohmann::json table = nlohmann::json::array();
-  std::vector<std::optional<double>> baseline_psnr(methods.size());  // [method]
+  std::map<std::string, double> baseline_psnr;  // by method
   int run_index = 0;
   for (const Condition& condition : conditions) {
     nlohmann::json entry = {{"id", condition.id}, {"name", condition.name}, {"kind", condition.kind}};
@@ -86,18 +117,19 @@ void run_stability(const EvalCommandOptions& options, const Dataset& dataset) {
     const Dataset changed = condition.make();
     entry["train_views"] = changed.train.size();
     entry["runs"] = nlohmann::json::array();
-    for (std::size_t m = 0; m < methods.size(); ++m) {
-      progress.start_run(run_index++, condition.name + " / " + methods[m]);
-      MethodRun run = run_method(method_request(options, methods[m], options.out / "stability" / condition.id / methods[m]),
-                                 changed, progress);
+    for (const std::string& method : methods_for(condition, methods)) {
+      progress.start_run(run_index++, condition.name + " / " + method);
+      MethodRunRequest request = method_request(options, method, options.out / "stability" / condition.id / method);
+      request.splat_config.refine_poses = request.splat_config.refine_poses || condition.refine_poses;
+      MethodRun run = run_method(request, changed, progress);
       nlohmann::json& r = run.json;
       r.erase("config");
       const double psnr = run.diverged ? 0.0 : r["final"]["psnr"].get<double>();
-      if (condition.kind == "baseline" && !run.diverged) baseline_psnr[m] = psnr;
-      const std::optional<double> reference =
-          condition.kind == "baseline" ? std::nullopt : baseline_psnr[m];
+      if (condition.kind == "baseline" && !run.diverged) baseline_psnr[method] = psnr;
+      std::optional<double> reference;
+      if (condition.kind != "baseline" && baseline_psnr.count(method)) reference = baseline_psnr[method];
       r["verdict"] = verdict_name(classify_run(run.diverged, psnr, background_psnr, reference, rules));
-      progress.message("[" + condition.name + " / " + methods[m] + "] verdict: " + r["verdict"].get<std::string>());
+      progress.message("[" + condition.name + " / " + method + "] verdict: " + r["verdict"].get<std::string>());
       entry["runs"].push_back(r);
     }
     table.push_back(entry);

@@ -51,6 +51,7 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
   void write_last_good_model(const std::filesystem::path& file) const override {
     write_ply(trainer_.last_good_model(), file);
   }
+  Camera scoring_camera(const DatasetView& view) const override { return trainer_.scoring_camera(view); }
   void add_metrics(nlohmann::json& m) const override {
     m["scene_extent"] = trainer_.scene_extent();
     m["strategy"] = trainer_.strategy().name();

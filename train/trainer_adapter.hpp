@@ -30,6 +30,8 @@ class TrainerAdapter {
   virtual void set_time_budget_fraction(double /*fraction*/) {}
   virtual Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) = 0;
   virtual Image render(const Camera& camera) = 0;  // clamped, as evaluate() scores it
+  // The camera evaluate() renders a test view with (aligned first under pose refinement).
+  virtual Camera scoring_camera(const DatasetView& view) const { return view.camera; }
   virtual int iteration() const = 0;
   virtual std::size_t num_gaussians() const = 0;  // 0 for the NeRF
   virtual std::size_t num_params() const = 0;

@@ -124,14 +124,18 @@ PoseAlignmentResult align_pose(const GaussianModel& model, const Camera& camera,
     const LossValue loss =
         photometric_loss(rendered.color, photo, settings.ssim_weight, last ? nullptr : &v_color, scratch);
     if (step == 0) result.first_loss = loss.loss;
-    result.last_loss = loss.loss;
+    // Adam's steps are of the rate's size whatever the gradient, so near the optimum a step
+    // can make things worse: the best correction seen is kept, never worse than `start`.
+    if (step == 0 || loss.loss < result.loss) {
+      result.loss = loss.loss;
+      result.correction = refiner.correction(0);
+    }
     if (last) break;
     rasterizer.backward(model, current, render, rendered, v_color, grads);
     const double fraction = settings.steps > 1 ? double(step) / double(settings.steps - 1) : 0.0;
     const float decay = float(std::pow(double(settings.lr_final_factor), fraction));
     refiner.step(0, camera, grads.camera_pose, {settings.lr.rotation * decay, settings.lr.translation * decay});
   }
-  result.correction = refiner.correction(0);
   return result;
 }
 

@@ -79,13 +79,14 @@ struct PoseAlignmentSettings {
 };
 
 struct PoseAlignmentResult {
-  PoseCorrection correction;
-  double first_loss = 0, last_loss = 0;  // before the first and after the last step
+  PoseCorrection correction;  // the one with the lowest loss seen (`start` included)
+  double first_loss = 0;      // at `start`
+  double loss = 0;            // at `correction`
 };
 
 // Adam on the correction of `camera`'s pose that makes `model`'s render match `photo` (the
-// training loss), `settings.steps` steps, starting from `start`. Deterministic for any
-// thread count.
+// training loss), `settings.steps` steps, starting from `start`; returns the best correction
+// seen. Deterministic for any thread count.
 PoseAlignmentResult align_pose(const GaussianModel& model, const Camera& camera, const Image& photo,
                                const RenderSettings& render, const PoseAlignmentSettings& settings,
                                float scene_extent, const PoseCorrection& start = {});

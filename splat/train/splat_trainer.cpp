@@ -219,6 +219,18 @@ Image SplatTrainer::render(const Camera& camera) const {
   return clamped(result.color);
 }
 
+Camera SplatTrainer::scoring_camera(const DatasetView& view) const {
+  if (!config_.refine_poses) return view.camera;
+  PoseAlignmentSettings alignment;
+  alignment.steps = config_.test_pose_alignment_steps;
+  alignment.lr = {config_.pose_rotation_lr, config_.pose_translation_lr};
+  // Decaying as training's rates do: large steps find the frame, small ones settle in it.
+  alignment.lr_final_factor = config_.pose_lr_final_factor;
+  alignment.ssim_weight = config_.ssim_weight;
+  return align_pose(model_, view.camera, view.image, render_settings(), alignment, scene_extent_)
+      .correction.applied_to(view.camera);
+}
+
 Evaluation SplatTrainer::evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) {
   Evaluation e;
   if (renders) renders->clear();
@@ -226,16 +238,7 @@ Evaluation SplatTrainer::evaluate(const std::vector<DatasetView>& views, std::ve
   // first aligned to its photograph with the model fixed, from its recorded pose every time
   // (so a score depends only on the model, and a resumed run scores as an uninterrupted one).
   for (const DatasetView& view : views) {
-    Camera camera = view.camera;
-    if (config_.refine_poses) {
-      PoseAlignmentSettings alignment;
-      alignment.steps = config_.test_pose_alignment_steps;
-      alignment.lr = {config_.pose_rotation_lr, config_.pose_translation_lr};
-      alignment.ssim_weight = config_.ssim_weight;
-      camera = align_pose(model_, view.camera, view.image, render_settings(), alignment, scene_extent_)
-                   .correction.applied_to(view.camera);
-    }
-    Image image = render(camera);
+    Image image = render(scoring_camera(view));
     const double view_psnr = psnr(image, view.image);
     e.view_psnr.push_back(view_psnr);
     e.psnr += view_psnr;

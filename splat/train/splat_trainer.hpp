@@ -84,6 +84,9 @@ class SplatTrainer {
   // The image evaluate() scores for one camera (clamped to [0, 1]), without scoring it: what
   // splat-eval times as the render cost.
   Image render(const Camera& camera) const;
+  // The camera evaluate() renders `view` with: its recorded one, or under pose refinement
+  // that camera aligned to the view's photograph with the model fixed.
+  Camera scoring_camera(const DatasetView& view) const;
 
   int iteration() const { return iteration_; }  // iterations completed
   int active_sh_degree() const { return active_sh_degree_; }

@@ -65,7 +65,8 @@ struct SplatTrainingConfig {
   // scene (Adam, its rates decaying exponentially to pose_lr_final_factor of themselves over
   // the schedule), and before they are scored the test views are aligned to their photographs
   // by test_pose_alignment_steps pose-only steps from their recorded poses with the model
-  // fixed.
+  // fixed (the same rates, decaying over the steps to the same factor; the best pose seen
+  // is kept).
   bool refine_poses = false;
   int pose_refine_from = 500;
   float pose_rotation_lr = 1e-3f;     // on the correction quaternion's components

@@ -244,7 +244,17 @@ TEST(EvalCli, StabilityRunsEveryConditionAndGivesEachRunAVerdict) {
       EXPECT_TRUE(c.contains("skipped"));
       continue;
     }
-    ASSERT_EQ(c.at("runs").size(), 2u);
+    // Pose refinement is the splat methods' alone: the NeRF does not run in those rows.
+    const bool refined = c.at("kind").get<std::string>().find("+ refinement") != std::string::npos;
+    EXPECT_EQ(refined, id.size() > 7 && id.substr(id.size() - 7) == "_refine");
+    ASSERT_EQ(c.at("runs").size(), refined ? 1u : 2u);
+    if (refined) {
+      EXPECT_EQ(c.at("runs")[0].at("method"), "splat");
+      EXPECT_NE(c.at("runs")[0].at("pose_refinement").at("test_protocol").get<std::string>().find("aligned"),
+                std::string::npos);
+    } else {
+      EXPECT_FALSE(c.at("runs")[0].contains("pose_refinement"));
+    }
     EXPECT_EQ(c.at("train_views").get<int>(), id == "views_4" ? 4 : 8);
     for (const auto& run : c.at("runs")) {
       const std::string verdict = run.at("verdict");
@@ -259,12 +269,40 @@ TEST(EvalCli, StabilityRunsEveryConditionAndGivesEachRunAVerdict) {
       EXPECT_TRUE(fs::exists(out / run.at("model_file").get<std::string>()));
     }
   }
-  const std::vector<std::string> expected = {"baseline", "views_4", "views_8", "pose_noise_0.25deg_0.25pct",
-                                             "pose_noise_1deg_1pct", "pose_noise_3deg_3pct", "random_init"};
+  const std::vector<std::string> expected = {"baseline",
+                                             "baseline_refine",
+                                             "views_4",
+                                             "views_8",
+                                             "pose_noise_0.25deg_0.25pct",
+                                             "pose_noise_0.25deg_0.25pct_refine",
+                                             "pose_noise_1deg_1pct",
+                                             "pose_noise_1deg_1pct_refine",
+                                             "pose_noise_3deg_3pct",
+                                             "pose_noise_3deg_3pct_refine",
+                                             "random_init"};
   EXPECT_EQ(names, expected);
   EXPECT_GT(fs::file_size(out / "charts" / "stability_psnr.png"), 1000u);
   expect_report_files_exist(out, {"charts/stability_psnr.png"});
-  EXPECT_NE(test::read_file(out / "report.html").find("pose"), std::string::npos);
+  const std::string report = test::read_file(out / "report.html");
+  EXPECT_NE(report.find("poses 1° / 1% + refinement"), std::string::npos);
+  EXPECT_NE(report.find("aligned to its photograph"), std::string::npos);
+}
+
+TEST(EvalCli, StabilityRunsTheConditionKindsAndNoiseLevelsGiven) {
+  const fs::path dir = test::scratch_dir("eval_cli_stability_kinds");
+  const fs::path data = tiny_dataset(dir);
+  const auto r = test::run_command(
+      eval_command(dir, data, "--stability --stability-conditions baseline,refinement --pose-noise 2 --max-seconds 0.3"),
+      dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const auto j = nlohmann::json::parse(test::read_file(dir / "out" / "stability.json"));
+  std::vector<std::string> names;
+  for (const auto& c : j.at("conditions")) names.push_back(c.at("id"));
+  const std::vector<std::string> expected = {"baseline", "baseline_refine", "pose_noise_2deg_2pct_refine"};
+  EXPECT_EQ(names, expected);
+  // The refined runs are judged against the plain splat baseline.
+  for (const auto& c : j.at("conditions"))
+    for (const auto& run : c.at("runs")) EXPECT_TRUE(run.contains("verdict")) << run.dump();
 }
 
 TEST(EvalCli, GaussianSweepMarksTheSmallestModelWithinHalfADecibelOfTheBest) {
@@ -320,7 +358,9 @@ TEST(EvalCli, RejectsBadOptions) {
                           "--sweep-gaussians 10,x", "--sweep-gaussians 0", "--stability-views 8,,16",
                           "--stability --sweep-gaussians 100", "--methods splat,gauss", "--methods splat,,nerf",
                           "--methods nerf,nerf", "--methods nerf --sweep-gaussians 100",
-                          "--methods splat,splat-official --sweep-gaussians 100"}) {
+                          "--methods splat,splat-official --sweep-gaussians 100",
+                          "--stability --stability-conditions baseline,sideways", "--stability --pose-noise 0",
+                          "--stability --pose-noise 1,x", "--pose-noise 1", "--stability-conditions views"}) {
     const auto r = test::run_command(std::string(SPLAT_EVAL_EXE) + " --data " + dir.string() + " --out " +
                                          (dir / "out").string() + " " + bad,
                                      dir);

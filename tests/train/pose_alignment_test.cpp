@@ -56,10 +56,10 @@ TEST(PoseAlignment, RecoversAKnownPerturbation) {
   const double angle_after = angle_between_deg(aligned.camera_from_world_rotation, truth.camera_from_world_rotation);
   const double offset_after = glm::length(aligned.center_in_world() - truth.center_in_world());
   std::printf("rotation error %.3f -> %.3f deg, centre offset %.4f -> %.4f, loss %.5f -> %.5f\n", angle_before,
-              angle_after, offset_before, offset_after, result.first_loss, result.last_loss);
+              angle_after, offset_before, offset_after, result.first_loss, result.loss);
   EXPECT_LT(angle_after, 0.1 * angle_before);
   EXPECT_LT(offset_after, 0.1 * offset_before);
-  EXPECT_LT(result.last_loss, 0.2 * result.first_loss);
+  EXPECT_LT(result.loss, 0.2 * result.first_loss);
 }
 
 TEST(PoseAlignment, LeavesTheRightPoseAlone) {
