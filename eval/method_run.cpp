@@ -137,7 +137,8 @@ MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, Ev
   j["config"] = trainer->config_json();
   nlohmann::json metrics;
   trainer->add_metrics(metrics);
-  if (metrics.contains("pose_refinement")) j["pose_refinement"] = metrics["pose_refinement"];
+  for (const char* key : {"pose_refinement", "exposure_compensation"})  // how the test views were scored
+    if (metrics.contains(key)) j[key] = metrics[key];
   char line[200];
   std::snprintf(line, sizeof(line), "[%s] done: %d iterations in %s, test PSNR %.3f dB, SSIM %.4f",
                 request.method.c_str(), trainer->iteration(), format_duration(trained_seconds).c_str(),

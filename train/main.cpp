@@ -36,6 +36,10 @@ DIR/test/<view>.png, DIR/config.json and DIR/checkpoint.ckpt.
                         (for poses with some error, as estimated ones have); the test views
                         are then aligned to their photographs with the model fixed before
                         they are scored (experimental: off by default)
+  --exposure-compensation
+                        give every training view its own affine colour map (exposure and
+                        white balance), optimised with the scene; test views use none
+                        (experimental: off by default)
   --test-every N        evaluate the test views every N iterations (default 1000 splat,
                         2000 nerf; 0 = end only)
   --checkpoint-every N  write DIR/checkpoint.ckpt every N iterations (default 5000; 0 = off)
@@ -81,7 +85,7 @@ int main(int argc, char** argv) {
                                {"data", "out", "method", "strategy", "iters", "max-seconds", "bg", "seed",
                                 "threads", "downscale", "max-gaussians", "test-every",
                                 "checkpoint-every", "resume", "config"},
-                               {"help", "quiet", "refine-poses"});
+                               {"help", "quiet", "refine-poses", "exposure-compensation"});
     if (args.has("help")) {
       std::fputs(kUsage, stdout);
       return 0;
@@ -100,6 +104,8 @@ int main(int argc, char** argv) {
         throw splat::ArgumentError("--strategy is a splat setting; --method nerf has no density control");
       if (args.has("refine-poses"))
         throw splat::ArgumentError("--refine-poses is a splat setting; the NeRF does not refine poses");
+      if (args.has("exposure-compensation"))
+        throw splat::ArgumentError("--exposure-compensation is a splat setting; the NeRF has no exposure maps");
       apply_options(args, options.nerf_config, options);
     } else {
       const auto strategy = args.value("strategy");
@@ -110,6 +116,7 @@ int main(int argc, char** argv) {
                                    options.config.strategy + "'");
       if (auto n = args.positive_integer("max-gaussians")) options.config.density.max_gaussians = std::size_t(*n);
       if (args.has("refine-poses")) options.config.refine_poses = true;
+      if (args.has("exposure-compensation")) options.config.exposure_compensation = true;
     }
     if (auto n = args.positive_integer("threads")) options.threads = *n;
     if (auto k = args.positive_integer("downscale")) options.dataset.downscale = *k;

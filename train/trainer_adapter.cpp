@@ -57,9 +57,31 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
     m["strategy"] = trainer_.strategy().name();
     m["density_control"] = trainer_.strategy().metrics();
     if (trainer_.config().refine_poses) m["pose_refinement"] = pose_refinement_metrics();
+    if (trainer_.config().exposure_compensation) m["exposure_compensation"] = exposure_metrics();
   }
 
  private:
+  // How far the training views' exposure maps moved, and how the test views were scored.
+  nlohmann::json exposure_metrics() const {
+    const ExposureCompensation& maps = trainer_.exposure_compensation();
+    double mean_gain = 0, max_gain = 0, mean_offset = 0;
+    for (std::size_t v = 0; v < maps.views(); ++v)
+      for (int c = 0; c < 3; ++c) {
+        const double gain = std::abs(maps.parameters(v)[c]), offset = std::abs(maps.parameters(v)[3 + c]);
+        mean_gain += gain;
+        max_gain = std::max(max_gain, gain);
+        mean_offset += offset;
+      }
+    const double values = 3.0 * double(std::max<std::size_t>(1, maps.views()));
+    nlohmann::json j;
+    j["training_views"] = maps.views();
+    j["mean_abs_log_gain"] = mean_gain / values;
+    j["max_abs_log_gain"] = max_gain;
+    j["mean_abs_offset"] = mean_offset / values;
+    j["test_protocol"] = "test views are rendered without a map: the training views' mean exposure";
+    return j;
+  }
+
   // How far refinement moved the training views, and how the test views were scored.
   nlohmann::json pose_refinement_metrics() const {
     const PoseRefiner& refiner = trainer_.pose_refiner();

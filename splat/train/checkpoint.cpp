@@ -60,6 +60,7 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
   header["rng"] = rng_state.str();
   header["strategy_state"] = strategy_->checkpoint_state();
   if (config_.refine_poses) header["pose_steps"] = pose_refiner_.steps();
+  if (config_.exposure_compensation) header["exposure_steps"] = exposure_.steps();
   const std::string text = header.dump();
 
   write_atomically(file, [&](const std::filesystem::path& temp) {
@@ -75,6 +76,10 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
     if (config_.refine_poses)  // the training views' pose corrections and their Adam moments
       for (const std::vector<float>& a :
            {pose_refiner_.parameters(), pose_refiner_.first_moments(), pose_refiner_.second_moments()})
+        write_array(out, a);
+    if (config_.exposure_compensation)  // the training views' exposure maps and their Adam moments
+      for (const std::vector<float>& a :
+           {exposure_.parameters(), exposure_.first_moments(), exposure_.second_moments()})
         write_array(out, a);
     if (!out) throw InputError(file, "cannot write the checkpoint");
   });
@@ -138,11 +143,19 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
   std::vector<float> pose_arrays[3];
   if (config_.refine_poses)
     for (std::vector<float>& a : pose_arrays) read_array(in, a, remaining, file);
+  std::vector<float> exposure_arrays[3];
+  if (config_.exposure_compensation)
+    for (std::vector<float>& a : exposure_arrays) read_array(in, a, remaining, file);
   try {
     if (config_.refine_poses) {
       pose_refiner_ = PoseRefiner(dataset_.train.size(), scene_extent_);
       pose_refiner_.restore(pose_arrays[0], pose_arrays[1], pose_arrays[2],
                             header.at("pose_steps").get<std::vector<long long>>());
+    }
+    if (config_.exposure_compensation) {
+      exposure_ = ExposureCompensation(dataset_.train.size());
+      exposure_.restore(exposure_arrays[0], exposure_arrays[1], exposure_arrays[2],
+                        header.at("exposure_steps").get<std::vector<long long>>());
     }
     model_.check_consistent();
     adam_.first_moment.check_consistent();

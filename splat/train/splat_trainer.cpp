@@ -61,6 +61,11 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
     if (config_.test_pose_alignment_steps < 0) throw ArgumentError("test_pose_alignment_steps must be >= 0");
     pose_refiner_ = PoseRefiner(dataset.train.size(), scene_extent_);
   }
+  if (config_.exposure_compensation) {
+    if (!(config_.exposure_lr >= 0.0f && std::isfinite(config_.exposure_lr)))
+      throw ArgumentError("exposure compensation: exposure_lr must be finite and >= 0");
+    exposure_ = ExposureCompensation(dataset.train.size());
+  }
 }
 
 std::size_t SplatTrainer::next_view() {
@@ -148,8 +153,13 @@ StepResult SplatTrainer::step() {
   result.timings.blend = rasterizer_.last_timings().blend_ms;
 
   start = Clock::now();
-  const LossValue loss =
-      photometric_loss(render_.color, target, config_.ssim_weight, &v_image_, ssim_scratch_);
+  const bool compensate = config_.exposure_compensation && iteration >= config_.exposure_from;
+  if (compensate) exposure_.apply(view, render_.color, compensated_);
+  const LossValue loss = photometric_loss(compensate ? compensated_ : render_.color, target, config_.ssim_weight,
+                                          &v_image_, ssim_scratch_);
+  if (compensate)
+    exposure_.backward_and_step(view, render_.color, v_image_,
+                                config_.exposure_lr * appearance_lr_factor(config_, schedule_iteration(iteration)));
   result.timings.loss = ms_since(start);
   result.loss = loss.loss;
   result.l1 = loss.l1;

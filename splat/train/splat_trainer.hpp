@@ -16,6 +16,7 @@
 #include "splat/optim/photometric_loss.hpp"
 #include "splat/raster/rasterizer.hpp"
 #include "splat/train/density_strategy.hpp"
+#include "splat/train/exposure_compensation.hpp"
 #include "splat/train/pose_alignment.hpp"
 #include "splat/train/training_config.hpp"
 
@@ -98,6 +99,7 @@ class SplatTrainer {
   const DensityStrategy& strategy() const { return *strategy_; }
   // Pose refinement's corrections of the training views (none without refine_poses).
   const PoseRefiner& pose_refiner() const { return pose_refiner_; }
+  const ExposureCompensation& exposure_compensation() const { return exposure_; }
 
   // The fraction of the run's time budget spent so far (the training loop sets it before
   // each step when there is a budget); schedules that follow the budget read it.
@@ -145,6 +147,8 @@ class SplatTrainer {
   SsimScratch ssim_scratch_;
   std::vector<std::vector<Image>> reduced_images_;  // [divisor][view], empty until needed
   PoseRefiner pose_refiner_;                        // [train view] under refine_poses
+  ExposureCompensation exposure_;                   // [train view] under exposure_compensation
+  Image compensated_;                               // the render through the view's map
 };
 
 }  // namespace splat

@@ -77,6 +77,9 @@ void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
   v("pose_rotation_lr", c.pose_rotation_lr);
   v("pose_translation_lr", c.pose_translation_lr);
   v("pose_lr_final_factor", c.pose_lr_final_factor);
+  v("exposure_compensation", c.exposure_compensation);
+  v("exposure_from", c.exposure_from);
+  v("exposure_lr", c.exposure_lr);
   v("test_pose_alignment_steps", c.test_pose_alignment_steps);
   v("test_interval", c.test_interval);
   v("checkpoint_interval", c.checkpoint_interval);

@@ -78,6 +78,14 @@ struct SplatTrainingConfig {
   float pose_lr_final_factor = 0.1f;
   int test_pose_alignment_steps = 30;
 
+  // Exposure compensation (--exposure-compensation; splat/train/exposure_compensation.hpp):
+  // from iteration exposure_from on, each training view's render passes through its own
+  // affine colour map, optimised with the scene (Adam at exposure_lr, decaying as the
+  // appearance rates do); the maps' mean stays the identity, and test views use none.
+  bool exposure_compensation = false;
+  int exposure_from = 500;
+  float exposure_lr = 1e-3f;
+
   int test_interval = 1000;          // iterations between test evaluations (0 = end only)
   int checkpoint_interval = 5000;    // iterations between checkpoints (0 = none)
 };

@@ -33,7 +33,7 @@ fs::path tiny_dataset() {
       "densification_interval": 50, "opacity_reset_interval": 200, "densify_until_iter": 250,
       "compact_warmup_until": 60, "compact_grow_from": 100, "compact_grow_interval": 50,
       "compact_grow_until": 250, "compact_prune_window": 50, "schedule_follows_budget": false,
-      "pose_refine_from": 50})");
+      "pose_refine_from": 50, "exposure_from": 50})");
     return d;
   }();
   return dir;
@@ -129,9 +129,9 @@ TEST(TrainCli, ResumeContinuesExactly) {
 
 // Pose refinement: the corrections are part of the run's state (a resumed run is the same
 // run, whatever the thread count), and metrics.json says how the test views were scored.
-TEST(TrainCli, PoseRefinementResumesExactlyAndReportsItsProtocol) {
+TEST(TrainCli, PoseRefinementAndExposureMapsResumeExactlyAndReportTheirProtocol) {
   const fs::path dir = test::scratch_dir("train_cli_refine_poses");
-  const std::string s = "--refine-poses --test-every 60 ";
+  const std::string s = "--refine-poses --exposure-compensation --test-every 60 ";
   auto r = test::run_command(train_command(dir / "straight", s + "--iters 240 --quiet --threads 2"), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = test::run_command(train_command(dir / "split", s + "--iters 120 --checkpoint-every 120 --quiet --threads 1"), dir);
@@ -149,12 +149,21 @@ TEST(TrainCli, PoseRefinementResumesExactlyAndReportsItsProtocol) {
   EXPECT_GT(m["pose_refinement"]["mean_rotation_correction_deg"].get<double>(), 0.0);  // it moved
   EXPECT_NE(m["pose_refinement"]["test_protocol"].get<std::string>().find("aligned"), std::string::npos);
   EXPECT_EQ(read_json(dir / "straight" / "config.json")["refine_poses"], true);
+  ASSERT_TRUE(m.contains("exposure_compensation")) << m.dump();
+  EXPECT_GT(m["exposure_compensation"]["max_abs_log_gain"].get<double>(), 0.0);  // the maps moved
+  EXPECT_NE(m["exposure_compensation"]["test_protocol"].get<std::string>().find("without"), std::string::npos);
+  EXPECT_EQ(read_json(dir / "straight" / "config.json")["exposure_compensation"], true);
   // The NeRF has no poses to refine.
   r = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --data " + tiny_dataset().string() + " --out " +
                             (dir / "nerf").string() + " --method nerf --refine-poses --iters 1",
                         dir);
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--refine-poses"), std::string::npos) << r.err;
+  r = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --data " + tiny_dataset().string() + " --out " +
+                            (dir / "nerf").string() + " --method nerf --exposure-compensation --iters 1",
+                        dir);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--exposure-compensation"), std::string::npos) << r.err;
 }
 
 // Without a span in the config, the schedule spans the run's --iters, recorded in
