@@ -7,6 +7,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "../data/dataset_test_folders.hpp"
 #include "cli_support.hpp"
 #include "splat/data/image_io.hpp"
 #include "test_support.hpp"
@@ -195,6 +196,39 @@ TEST(EvalCli, MethodsDefaultToBothDensityStrategiesAndTheNerfEachWithItsFolderEn
   const auto again = test::run_command(std::string(SPLAT_EVAL_EXE) + " --report --quiet --out " + old.string(), dir);
   ASSERT_EQ(again.exit_code, 0) << again.err;
   expect_report_files_exist(old, {"charts/psnr_vs_time.png", "charts/psnr_vs_gaussians.png"});
+}
+
+// A capture as COLMAP leaves it (sparse/0 and images/, one camera for all photographs, test
+// views every 8th in name order) runs the comparison as a Blender folder does.
+TEST(EvalCli, ComparesTheMethodsOnACOLMAPCapture) {
+  const fs::path dir = test::scratch_dir("eval_cli_colmap");
+  tiny_dataset(dir);  // for the small trainer settings
+  test::TestModel model;
+  model.cameras = {{1, ColmapCameraModel::kPinhole, 24, 18, {22.0, 22.0, 12.0, 9.0}}};
+  for (int i = 0; i < 10; ++i) {
+    ColmapImage image;
+    image.id = std::uint32_t(1 + i);
+    // Cameras on an arc 4 units from the origin, looking at it (a turn about y).
+    const double angle = 0.08 * (i - 5);
+    image.quaternion = {std::cos(angle / 2), 0.0, std::sin(angle / 2), 0.0};
+    image.translation = {0.0, 0.0, 4.0};
+    image.camera_id = 1;
+    image.name = "img_" + std::to_string(10 + i) + ".png";
+    model.images.push_back(image);
+  }
+  for (int i = 0; i < 30; ++i)
+    model.points.push_back({{0.05 * (i % 5) - 0.1, 0.05 * (i / 5) - 0.15, 0.02 * (i % 3)}, {200, 90, std::uint8_t(8 * i)}});
+  test::write_colmap_folder(dir / "capture", model, test::ModelForm::kText);
+
+  const auto r = test::run_command(
+      eval_command(dir, dir / "capture", "--methods splat,nerf --max-seconds 1 --eval-every-seconds 0.5"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const auto j = nlohmann::json::parse(test::read_file(dir / "out" / "results.json"));
+  EXPECT_EQ(j.at("test_views").get<int>(), 2);  // img_10 and img_18
+  ASSERT_EQ(j.at("methods").size(), 2u);
+  for (const auto& m : j.at("methods")) EXPECT_TRUE(std::isfinite(m.at("final").at("psnr").get<double>())) << m.dump();
+  EXPECT_TRUE(fs::exists(dir / "out" / "grids" / "img_10.png"));
+  expect_report_files_exist(dir / "out", {"grids/img_10.png"});
 }
 
 TEST(EvalCli, StabilityAndSweepRunTheMethodsGiven) {
