@@ -1,5 +1,5 @@
-#include <cstdio>
 #include <algorithm>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <tbb/info.h>
