@@ -1,0 +1,57 @@
+// splat-alignment-rescore: scores a model trained with --refine-poses on a dataset's test
+// views, each first aligned to its photograph by N pose-only steps (the scoring protocol of
+// splat/train/pose_alignment.hpp) at a given start rate decaying to a given factor; N = 0
+// scores the recorded poses. Shows how much of a refined model's score the alignment's step
+// budget decides (bench/README.md, issue 15). Prints one JSON line.
+//   build/bench/splat-alignment-rescore --model M.ply --data DIR [--steps 30] [--lr 3e-4]
+//       [--final-factor 0.1] [--threads N]
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+
+#include <tbb/global_control.h>
+
+#include "common/arg_parser.hpp"
+#include "common/run_main.hpp"
+#include "splat/data/dataset.hpp"
+#include "splat/eval/metrics.hpp"
+#include "splat/gaussians/ply_io.hpp"
+#include "splat/optim/photometric_loss.hpp"
+#include "splat/train/pose_alignment.hpp"
+
+int main(int argc, char** argv) {
+  return splat::cli::run_main([&] {
+    splat::cli::ArgParser args(argc, argv, {"model", "data", "steps", "lr", "final-factor", "threads"}, {});
+    args.expect_no_positionals();
+    const splat::GaussianModel model = splat::read_ply(args.required("model"));
+    const splat::Dataset dataset = splat::load_dataset(args.required("data"));
+    splat::PoseAlignmentSettings alignment;
+    alignment.steps = 30;
+    if (auto n = args.number("steps")) alignment.steps = int(*n);
+    const float lr = float(args.number("lr").value_or(3e-4));
+    alignment.lr = {lr, lr};
+    alignment.lr_final_factor = float(args.number("final-factor").value_or(0.1));
+    std::unique_ptr<tbb::global_control> threads;
+    if (auto n = args.positive_integer("threads"))
+      threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, *n);
+    splat::RenderSettings render;
+    render.sh_degree = model.sh_degree;
+    double sum = 0;
+    for (const splat::DatasetView& view : dataset.test) {
+      const splat::Camera camera =
+          alignment.steps > 0
+              ? splat::align_pose(model, view.camera, view.image, render, alignment, dataset.scene_extent)
+                    .correction.applied_to(view.camera)
+              : view.camera;
+      splat::Rasterizer rasterizer;
+      splat::RenderResult result;
+      rasterizer.render(model, camera, render, result);
+      for (float& v : result.color.data) v = std::clamp(v, 0.0f, 1.0f);  // as evaluate() scores
+      sum += splat::psnr(result.color, view.image);
+    }
+    std::printf("{\"steps\": %d, \"lr\": %g, \"final_factor\": %g, \"test_views\": %zu, \"psnr\": %.3f}\n",
+                alignment.steps, double(lr), double(alignment.lr_final_factor), dataset.test.size(),
+                sum / double(dataset.test.size()));
+    return 0;
+  });
+}
