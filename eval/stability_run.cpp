@@ -92,7 +92,10 @@ std::vector<std::string> methods_for(const Condition& condition, const std::vect
 
 void run_stability(const EvalCommandOptions& options, const Dataset& dataset) {
   const std::vector<std::string> methods = methods_to_run(options);
-  const std::vector<Condition> conditions = conditions_for(options, dataset);
+  std::vector<Condition> conditions = conditions_for(options, dataset);
+  for (Condition& c : conditions)
+    if (c.skipped.empty() && methods_for(c, methods).empty())
+      c.skipped = "pose refinement is the splat methods' alone, and none of them runs";
   int runs = 0;
   for (const Condition& c : conditions) runs += c.skipped.empty() ? int(methods_for(c, methods).size()) : 0;
   EvalProgress progress(options.quiet, runs, options.max_seconds, 1);

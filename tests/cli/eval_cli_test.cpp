@@ -334,6 +334,13 @@ TEST(EvalCli, StabilityRunsTheConditionKindsAndNoiseLevelsGiven) {
   for (const auto& c : j.at("conditions")) names.push_back(c.at("id"));
   const std::vector<std::string> expected = {"baseline", "baseline_refine", "pose_noise_2deg_2pct_refine"};
   EXPECT_EQ(names, expected);
+  // With the NeRF alone, the refinement rows say why they did not run.
+  const auto nerf = test::run_command(
+      eval_command(dir, data, "--stability --methods nerf --stability-conditions refinement --pose-noise 2 --max-seconds 0.3"),
+      dir);
+  ASSERT_EQ(nerf.exit_code, 0) << nerf.err << nerf.out;
+  for (const auto& c : nlohmann::json::parse(test::read_file(dir / "out" / "stability.json")).at("conditions"))
+    EXPECT_NE(c.value("skipped", "").find("splat methods"), std::string::npos) << c.dump();
   // The refined runs are judged against the plain splat baseline.
   for (const auto& c : j.at("conditions"))
     for (const auto& run : c.at("runs")) EXPECT_TRUE(run.contains("verdict")) << run.dump();
