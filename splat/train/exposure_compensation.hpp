@@ -9,7 +9,7 @@
 
 #include "splat/core/image.hpp"
 #include "splat/optim/exposure.hpp"
-#include "splat/optim/flat_adam.hpp"
+#include "splat/optim/per_view_adam.hpp"
 
 namespace splat {
 
@@ -18,9 +18,9 @@ class ExposureCompensation {
   ExposureCompensation() = default;
   explicit ExposureCompensation(std::size_t views);
 
-  std::size_t views() const { return adams_.size(); }
+  std::size_t views() const { return adam_.views(); }
   // View `view`'s six numbers (log gains, then offsets).
-  const float* parameters(std::size_t view) const { return &parameters_[view * kExposureValues]; }
+  const float* parameters(std::size_t view) const { return adam_.parameters(view).data(); }
 
   // `out` = `rendered` through view `view`'s map.
   void apply(std::size_t view, const Image& rendered, Image& out) const;
@@ -29,17 +29,18 @@ class ExposureCompensation {
   void backward_and_step(std::size_t view, const Image& rendered, Image& v_image, float lr);
 
   // The state for checkpoints: six numbers per view, Adam's moments alike, each view's steps.
-  const std::vector<float>& parameters() const { return parameters_; }
-  std::vector<float> first_moments() const;
-  std::vector<float> second_moments() const;
-  std::vector<long long> steps() const;
+  const std::vector<float>& parameters() const { return adam_.parameters(); }
+  std::vector<float> first_moments() const { return adam_.first_moments(); }
+  std::vector<float> second_moments() const { return adam_.second_moments(); }
+  const std::vector<long long>& steps() const { return adam_.steps(); }
   // Restores it; throws ArgumentError if the sizes do not match views() or a value is not finite.
   void restore(const std::vector<float>& parameters, const std::vector<float>& first_moments,
-               const std::vector<float>& second_moments, const std::vector<long long>& steps);
+               const std::vector<float>& second_moments, const std::vector<long long>& steps) {
+    adam_.restore(parameters, first_moments, second_moments, steps);
+  }
 
  private:
-  std::vector<float> parameters_;  // views × kExposureValues
-  std::vector<FlatAdam> adams_;
+  PerViewAdam adam_;  // per view: kExposureValues numbers
 };
 
 }  // namespace splat

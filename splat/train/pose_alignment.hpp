@@ -12,7 +12,7 @@
 #include "splat/core/camera.hpp"
 #include "splat/core/image.hpp"
 #include "splat/gaussians/gaussian_model.hpp"
-#include "splat/optim/flat_adam.hpp"
+#include "splat/optim/per_view_adam.hpp"
 #include "splat/raster/rasterizer.hpp"
 
 namespace splat {
@@ -39,12 +39,12 @@ class PoseRefiner {
   // any size.
   PoseRefiner(std::size_t views, float scene_extent);
 
-  std::size_t views() const { return corrections_.size(); }
-  const PoseCorrection& correction(std::size_t view) const { return corrections_[view]; }
+  std::size_t views() const { return adam_.views(); }
+  PoseCorrection correction(std::size_t view) const;
   // `base` (view `view`'s recorded camera, at any image size) with the correction applied.
-  Camera camera(std::size_t view, const Camera& base) const { return corrections_[view].applied_to(base); }
+  Camera camera(std::size_t view, const Camera& base) const { return correction(view).applied_to(base); }
   // Starts view `view` from `correction` (its Adam state unchanged).
-  void set_correction(std::size_t view, const PoseCorrection& correction) { corrections_[view] = correction; }
+  void set_correction(std::size_t view, const PoseCorrection& correction);
 
   // One Adam step of view `view`'s correction, from ∂L/∂pose of a render with camera(view, base).
   void step(std::size_t view, const Camera& base, const CameraPoseGradient& gradient,
@@ -52,21 +52,19 @@ class PoseRefiner {
 
   // The state for checkpoints: 7 numbers per view (the quaternion, then τ), Adam's moments
   // alike, and each view's step count.
-  std::vector<float> parameters() const;
-  std::vector<float> first_moments() const;
-  std::vector<float> second_moments() const;
-  std::vector<long long> steps() const;
+  const std::vector<float>& parameters() const { return adam_.parameters(); }
+  std::vector<float> first_moments() const { return adam_.first_moments(); }
+  std::vector<float> second_moments() const { return adam_.second_moments(); }
+  const std::vector<long long>& steps() const { return adam_.steps(); }
   // Restores it; throws ArgumentError if the sizes do not match views() or a value is not finite.
   void restore(const std::vector<float>& parameters, const std::vector<float>& first_moments,
-               const std::vector<float>& second_moments, const std::vector<long long>& steps);
+               const std::vector<float>& second_moments, const std::vector<long long>& steps) {
+    adam_.restore(parameters, first_moments, second_moments, steps);
+  }
 
  private:
-  // One of Adam's moments of every view, 7 numbers per view.
-  std::vector<float> moments(const std::vector<float>& (FlatAdam::*moment)() const) const;
-
   float extent_ = 1.0f;
-  std::vector<PoseCorrection> corrections_;
-  std::vector<FlatAdam> rotation_adams_, translation_adams_;
+  PerViewAdam adam_;  // per view: the quaternion (w, x, y, z), then τ
 };
 
 struct PoseAlignmentSettings {
