@@ -9,6 +9,7 @@
 #include "progress_reporter.hpp"
 #include "splat/core/error.hpp"
 #include "splat/data/image_io.hpp"
+#include "splat/eval/pose_error.hpp"
 #include "trainer_adapter.hpp"
 #include "training_loop.hpp"
 
@@ -67,6 +68,14 @@ class MethodObserver final : public TrainingObserver {
   const fs::path& dir_;
   EvalProgress& progress_;
 };
+
+nlohmann::json pose_error_json(const PoseError& e, double scene_extent) {
+  return {{"mean_rotation_deg", e.mean_rotation_deg},
+          {"max_rotation_deg", e.max_rotation_deg},
+          {"mean_translation_percent_of_extent", 100.0 * e.mean_translation / scene_extent},
+          {"max_translation_percent_of_extent", 100.0 * e.max_translation / scene_extent},
+          {"scale", e.scale}};
+}
 
 }  // namespace
 
@@ -139,6 +148,16 @@ MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, Ev
   trainer->add_metrics(metrics);
   for (const char* key : {"pose_refinement", "exposure_compensation"})  // how the test views were scored
     if (metrics.contains(key)) j[key] = metrics[key];
+  const std::vector<Camera> refined = trainer->refined_training_cameras();
+  if (request.true_training_cameras && j.contains("pose_refinement") &&
+      refined.size() == request.true_training_cameras->size() && refined.size() >= 3) {
+    std::vector<Camera> recorded;
+    for (const DatasetView& view : dataset.train) recorded.push_back(view.camera);
+    j["pose_refinement"]["pose_error"] = {
+        {"protocol", "training cameras against the true poses after a similarity fit of their centres"},
+        {"before", pose_error_json(pose_error(recorded, *request.true_training_cameras), dataset.scene_extent)},
+        {"after", pose_error_json(pose_error(refined, *request.true_training_cameras), dataset.scene_extent)}};
+  }
   char line[200];
   std::snprintf(line, sizeof(line), "[%s] done: %d iterations in %s, test PSNR %.3f dB, SSIM %.4f",
                 request.method.c_str(), trainer->iteration(), format_duration(trained_seconds).c_str(),

@@ -27,6 +27,9 @@ struct MethodRunRequest {
   std::filesystem::path out_root;     // splat-eval's --out: file names in the JSON are relative to it
   std::filesystem::path out_dir;      // receives the model (and test/<view>.png with renders)
   bool render_test_views = false;     // render each test view alone, timed, kept and written
+  // The training poses before a stability condition perturbed them: under pose refinement,
+  // how far the training cameras are from these, before and after training, is measured.
+  const std::vector<Camera>* true_training_cameras = nullptr;
 };
 
 struct MethodRun {

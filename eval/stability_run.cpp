@@ -105,6 +105,8 @@ void run_stability(const EvalCommandOptions& options, const Dataset& dataset) {
                    method_list + ", " + format_duration(options.max_seconds) + " each");
 
   const VerdictRules rules;
+  std::vector<Camera> true_training_cameras;  // against which refinement's pose error is measured
+  for (const DatasetView& view : dataset.train) true_training_cameras.push_back(view.camera);
   const double background_psnr = background_only_psnr(dataset.test, options.dataset.background);
   nlohmann::json table = nlohmann::json::array();
   std::map<std::string, double> baseline_psnr;  // by method
@@ -124,6 +126,7 @@ void run_stability(const EvalCommandOptions& options, const Dataset& dataset) {
       progress.start_run(run_index++, condition.name + " / " + method);
       MethodRunRequest request = method_request(options, method, options.out / "stability" / condition.id / method);
       request.splat_config.refine_poses = request.splat_config.refine_poses || condition.refine_poses;
+      if (changed.train.size() == dataset.train.size()) request.true_training_cameras = &true_training_cameras;
       MethodRun run = run_method(request, changed, progress);
       nlohmann::json& r = run.json;
       r.erase("config");

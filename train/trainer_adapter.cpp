@@ -52,6 +52,9 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
     write_ply(trainer_.last_good_model(), file);
   }
   Camera scoring_camera(const DatasetView& view) const override { return trainer_.scoring_camera(view); }
+  std::vector<Camera> refined_training_cameras() const override {
+    return trainer_.config().refine_poses ? trainer_.training_cameras() : std::vector<Camera>{};
+  }
   void add_metrics(nlohmann::json& m) const override {
     m["scene_extent"] = trainer_.scene_extent();
     m["strategy"] = trainer_.strategy().name();

@@ -32,6 +32,9 @@ class TrainerAdapter {
   virtual Image render(const Camera& camera) = 0;  // clamped, as evaluate() scores it
   // The camera evaluate() renders a test view with (aligned first under pose refinement).
   virtual Camera scoring_camera(const DatasetView& view) const { return view.camera; }
+  // The training views' cameras as trained, when the method corrects them (pose refinement);
+  // otherwise none.
+  virtual std::vector<Camera> refined_training_cameras() const { return {}; }
   virtual int iteration() const = 0;
   virtual std::size_t num_gaussians() const = 0;  // 0 for the NeRF
   virtual std::size_t num_params() const = 0;

@@ -229,6 +229,14 @@ Image SplatTrainer::render(const Camera& camera) const {
   return clamped(result.color);
 }
 
+std::vector<Camera> SplatTrainer::training_cameras() const {
+  std::vector<Camera> cameras;
+  for (std::size_t v = 0; v < dataset_.train.size(); ++v)
+    cameras.push_back(config_.refine_poses ? pose_refiner_.camera(v, dataset_.train[v].camera)
+                                           : dataset_.train[v].camera);
+  return cameras;
+}
+
 Camera SplatTrainer::scoring_camera(const DatasetView& view) const {
   if (!config_.refine_poses) return view.camera;
   PoseAlignmentSettings alignment;

@@ -99,6 +99,8 @@ class SplatTrainer {
   const DensityStrategy& strategy() const { return *strategy_; }
   // Pose refinement's corrections of the training views (none without refine_poses).
   const PoseRefiner& pose_refiner() const { return pose_refiner_; }
+  // The training views' cameras as trained: the recorded ones, corrected under refine_poses.
+  std::vector<Camera> training_cameras() const;
   const ExposureCompensation& exposure_compensation() const { return exposure_; }
 
   // The fraction of the run's time budget spent so far (the training loop sets it before

@@ -344,6 +344,13 @@ TEST(EvalCli, StabilityRunsTheConditionKindsAndNoiseLevelsGiven) {
   // The refined runs are judged against the plain splat baseline.
   for (const auto& c : j.at("conditions"))
     for (const auto& run : c.at("runs")) EXPECT_TRUE(run.contains("verdict")) << run.dump();
+  // They measure how far their training cameras are from the true poses, before and after.
+  const auto& clean = j.at("conditions")[1].at("runs")[0].at("pose_refinement").at("pose_error");
+  const auto& noisy = j.at("conditions")[2].at("runs")[0].at("pose_refinement").at("pose_error");
+  EXPECT_LT(clean.at("before").at("mean_rotation_deg").get<double>(), 1e-3) << clean.dump();
+  EXPECT_GT(noisy.at("before").at("mean_rotation_deg").get<double>(), 1.0) << noisy.dump();
+  EXPECT_LT(noisy.at("before").at("mean_rotation_deg").get<double>(), 2.5) << noisy.dump();
+  EXPECT_TRUE(noisy.at("after").contains("mean_translation_percent_of_extent")) << noisy.dump();
 }
 
 TEST(EvalCli, GaussianSweepMarksTheSmallestModelWithinHalfADecibelOfTheBest) {
