@@ -58,6 +58,8 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
         throw ArgumentError("pose refinement: pose_rotation_lr and pose_translation_lr must be finite and >= 0");
     if (!(config_.pose_lr_final_factor > 0.0f && config_.pose_lr_final_factor <= 1.0f))
       throw ArgumentError("pose refinement: pose_lr_final_factor must be in (0, 1]");
+    if (!(config_.pose_lr_decay_until > 0.0f && config_.pose_lr_decay_until <= 1.0f))
+      throw ArgumentError("pose refinement: pose_lr_decay_until must be in (0, 1]");
     if (config_.test_pose_alignment_steps < 0) throw ArgumentError("test_pose_alignment_steps must be >= 0");
     pose_refiner_ = PoseRefiner(dataset.train.size(), scene_extent_);
   }
@@ -114,7 +116,8 @@ GroupLearningRates SplatTrainer::learning_rates() const {
 }
 
 PoseLearningRates SplatTrainer::pose_learning_rates() const {
-  const double fraction = schedule_iteration(iteration_ + 1) / double(config_.position_lr_max_steps);
+  const double fraction =
+      schedule_iteration(iteration_ + 1) / double(config_.position_lr_max_steps) / config_.pose_lr_decay_until;
   const auto decayed = [&](float lr) {
     if (lr == 0.0f) return 0.0f;
     return float(ExponentialLrSchedule{lr, lr * config_.pose_lr_final_factor, 1}.at_fraction(std::min(1.0, fraction)));

@@ -77,6 +77,7 @@ void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
   v("pose_rotation_lr", c.pose_rotation_lr);
   v("pose_translation_lr", c.pose_translation_lr);
   v("pose_lr_final_factor", c.pose_lr_final_factor);
+  v("pose_lr_decay_until", c.pose_lr_decay_until);
   v("exposure_compensation", c.exposure_compensation);
   v("exposure_from", c.exposure_from);
   v("exposure_lr", c.exposure_lr);

@@ -76,6 +76,9 @@ struct SplatTrainingConfig {
   float pose_rotation_lr = 3e-4f;     // on the correction quaternion's components
   float pose_translation_lr = 3e-4f;  // on the translation, in units of the scene extent
   float pose_lr_final_factor = 0.1f;
+  // The fraction of the schedule over which the rates decay (then they stay at the final
+  // rate): below 1, poses travel early and are held still while the detail is built.
+  float pose_lr_decay_until = 1.0f;
   int test_pose_alignment_steps = 30;
 
   // Exposure compensation (--exposure-compensation; splat/train/exposure_compensation.hpp):
