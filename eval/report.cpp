@@ -121,6 +121,28 @@ void sweep_section(std::ostream& html, const fs::path& out, const json& s) {
   chart(html, out, "sweep_psnr_vs_gaussians");
 }
 
+// What refinement recovered: the refined runs' training cameras against the true poses.
+void pose_error_table(std::ostream& html, const json& s) {
+  std::ostringstream rows;
+  const auto cell = [](const json& e) {
+    return "<td>" + fixed(e["mean_rotation_deg"], 3) + "&deg; / " + fixed(e["mean_translation_percent_of_extent"], 3) +
+           " %</td>";
+  };
+  for (const json& c : s.at("conditions"))
+    for (const json& r : c.value("runs", json::array()))
+      if (r.contains("pose_refinement") && r["pose_refinement"].contains("pose_error")) {
+        const json& e = r["pose_refinement"]["pose_error"];
+        rows << "<tr><td>" << escaped(c["name"]) << "</td><td>" << escaped(method_label(r)) << "</td>"
+             << cell(e["before"]) << cell(e["after"]) << "</tr>\n";
+      }
+  if (rows.str().empty()) return;
+  html << "<p>The training cameras' pose error: the mean over the views of the turn and of the centre's offset "
+          "(in % of the scene extent) from the true pose, after fitting a similarity to the centres (the frame a "
+          "reconstruction lives in is free):</p>\n<table><tr><th>condition</th><th>method</th>"
+          "<th>before training</th><th>after refinement</th></tr>\n"
+       << rows.str() << "</table>\n";
+}
+
 void stability_section(std::ostream& html, const fs::path& out, const json& s) {
   html << "<h2>Stability: where the methods fail</h2>\n<p>Dataset <code>" << escaped(s.at("data")) << "</code> ("
        << s.at("train_views") << " training views); every run trained " << seconds(s.at("budget_seconds"))
@@ -172,6 +194,7 @@ void stability_section(std::ostream& html, const fs::path& out, const json& s) {
     html << "<p>Rows marked &ldquo;+ refinement&rdquo; trained with <code>--refine-poses</code>: " << escaped(protocol)
          << ". The pose noise rows are trained on the perturbed poses; every row is scored against the same test "
             "views.</p>\n";
+  pose_error_table(html, s);
   chart(html, out, "stability_psnr");
 }
 

@@ -320,6 +320,7 @@ TEST(EvalCli, StabilityRunsEveryConditionAndGivesEachRunAVerdict) {
   const std::string report = test::read_file(out / "report.html");
   EXPECT_NE(report.find("poses 1° / 1% + refinement"), std::string::npos);
   EXPECT_NE(report.find("aligned to its photograph"), std::string::npos);
+  EXPECT_NE(report.find("after refinement"), std::string::npos);
 }
 
 TEST(EvalCli, StabilityRunsTheConditionKindsAndNoiseLevelsGiven) {
