@@ -183,25 +183,30 @@ inline void camera_pose_vjp(const Vec3<T>& mean_world, const Mat3<T>& camera_fro
   v_translation += v_mean_camera - camera_from_world_rotation * v_camera_center;
 }
 
-// A correction of a view's pose, applied in the camera's frame: W = R(q) W₀, t = R(q) t₀ + τ,
-// with R(q) the rotation of the quaternion q (normalised inside, as a Gaussian's) and τ a
-// translation; q = (1, 0, 0, 0), τ = 0 leave the pose as it is.
+// A correction of a view's pose, applied in the camera's frame about a pivot p (a fixed
+// camera-space point): W = R(q) W₀, t = R(q)(t₀ − p) + p + τ, with R(q) the rotation of the
+// quaternion q (normalised inside, as a Gaussian's) and τ a translation; q = (1, 0, 0, 0),
+// τ = 0 leave the pose as it is. With p at the depth of the scene, q orbits the camera about
+// it and τ pans: the image's shift (strongly constrained) and its parallax (weakly) become
+// separate coordinates, which Adam's per-coordinate steps need to move both at one pace.
 template <class T>
 inline void apply_pose_correction(const Vec4<T>& q, const Vec3<T>& tau, const Mat3<T>& rotation0,
-                                  const Vec3<T>& translation0, Mat3<T>& rotation, Vec3<T>& translation) {
+                                  const Vec3<T>& translation0, Mat3<T>& rotation, Vec3<T>& translation,
+                                  const Vec3<T>& pivot = Vec3<T>(0)) {
   const Mat3<T> r = quat_to_rotmat(q);
   rotation = r * rotation0;
-  translation = r * translation0 + tau;
+  translation = r * (translation0 - pivot) + pivot + tau;
 }
 
-// Its backward: v_R = v_W W₀ᵀ + v_t t₀ᵀ, then through the quaternion; v_τ = v_t.
+// Its backward: v_R = v_W W₀ᵀ + v_t (t₀ − p)ᵀ, then through the quaternion; v_τ = v_t.
 template <class T>
 inline void apply_pose_correction_vjp(const Vec4<T>& q, const Mat3<T>& rotation0, const Vec3<T>& translation0,
                                       const Mat3<T>& v_rotation, const Vec3<T>& v_translation, Vec4<T>& v_q,
-                                      Vec3<T>& v_tau) {
+                                      Vec3<T>& v_tau, const Vec3<T>& pivot = Vec3<T>(0)) {
   Mat3<T> v_r = v_rotation * glm::transpose(rotation0);
+  const Vec3<T> arm = translation0 - pivot;
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) at(v_r, r, c) += v_translation[r] * translation0[c];
+    for (int c = 0; c < 3; ++c) at(v_r, r, c) += v_translation[r] * arm[c];
   v_q = quat_to_rotmat_vjp(q, v_r);
   v_tau = v_translation;
 }

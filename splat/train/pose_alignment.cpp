@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <span>
+#include <utility>
 
+#include "splat/core/error.hpp"
 #include "splat/optim/photometric_loss.hpp"
 #include "splat/raster/projection_math.hpp"
 
@@ -19,19 +21,21 @@ Camera PoseCorrection::applied_to(const Camera& camera) const {
   Camera corrected = camera;
   apply_pose_correction(Vec4<float>(rotation), Vec3<float>(translation), camera.camera_from_world_rotation,
                         camera.camera_from_world_translation, corrected.camera_from_world_rotation,
-                        corrected.camera_from_world_translation);
+                        corrected.camera_from_world_translation, Vec3<float>(0.0f, 0.0f, pivot_depth));
   return corrected;
 }
 
-PoseRefiner::PoseRefiner(std::size_t views, float scene_extent)
+PoseRefiner::PoseRefiner(std::size_t views, float scene_extent, std::vector<float> pivot_depths)
     : extent_(scene_extent > 0 ? scene_extent : 1.0f),
+      pivot_depths_(pivot_depths.empty() ? std::vector<float>(views, 0.0f) : std::move(pivot_depths)),
       adam_(views, {kRotationValues, kTranslationValues}, kPoseAdam, "pose corrections") {
+  if (pivot_depths_.size() != views) throw ArgumentError("pose corrections: a pivot per view is needed");
   for (std::size_t v = 0; v < views; ++v) adam_.parameters(v)[0] = 1.0f;  // the identity quaternion
 }
 
 PoseCorrection PoseRefiner::correction(std::size_t view) const {
   const std::span<const float> p = adam_.parameters(view);
-  return {{p[0], p[1], p[2], p[3]}, {p[4], p[5], p[6]}};
+  return {{p[0], p[1], p[2], p[3]}, {p[4], p[5], p[6]}, pivot_depths_[view]};
 }
 
 void PoseRefiner::set_correction(std::size_t view, const PoseCorrection& correction) {
@@ -46,7 +50,7 @@ void PoseRefiner::step(std::size_t view, const Camera& base, const CameraPoseGra
   Vec3<float> v_tau;
   apply_pose_correction_vjp(Vec4<float>(correction(view).rotation), base.camera_from_world_rotation,
                             base.camera_from_world_translation, gradient.rotation, gradient.translation, v_q,
-                            v_tau);
+                            v_tau, Vec3<float>(0.0f, 0.0f, pivot_depths_[view]));
   const float grad[kValues] = {v_q[0], v_q[1], v_q[2], v_q[3], v_tau[0], v_tau[1], v_tau[2]};
   // Adam's step is the rate's size whatever the gradient's scale: τ's rate, in units of the
   // extent, becomes rate × extent in the scene's units.
@@ -57,7 +61,7 @@ void PoseRefiner::step(std::size_t view, const Camera& base, const CameraPoseGra
 PoseAlignmentResult align_pose(const GaussianModel& model, const Camera& camera, const Image& photo,
                                const RenderSettings& render, const PoseAlignmentSettings& settings,
                                float scene_extent, const PoseCorrection& start) {
-  PoseRefiner refiner(1, scene_extent);
+  PoseRefiner refiner(1, scene_extent, {start.pivot_depth});
   refiner.set_correction(0, start);
   PoseAlignmentResult result;
   Rasterizer rasterizer;

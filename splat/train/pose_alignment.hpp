@@ -17,10 +17,12 @@
 
 namespace splat {
 
-// Rotation (w, x, y, z; normalised on use) and translation applied to a pose.
+// Rotation (w, x, y, z; normalised on use) and translation applied to a pose, the rotation
+// about a pivot on the camera's optical axis (apply_pose_correction).
 struct PoseCorrection {
   glm::vec4 rotation{1.0f, 0.0f, 0.0f, 0.0f};
   glm::vec3 translation{0.0f};
+  float pivot_depth = 0.0f;  // fixed, not optimised; 0: about the camera centre
 
   Camera applied_to(const Camera& camera) const;
 };
@@ -36,14 +38,15 @@ class PoseRefiner {
  public:
   PoseRefiner() = default;
   // `scene_extent` scales the translation's step, so that one learning rate suits scenes of
-  // any size.
-  PoseRefiner(std::size_t views, float scene_extent);
+  // any size. `pivot_depths` (one per view, or none: 0) are the corrections' pivots.
+  PoseRefiner(std::size_t views, float scene_extent, std::vector<float> pivot_depths = {});
 
   std::size_t views() const { return adam_.views(); }
   PoseCorrection correction(std::size_t view) const;
   // `base` (view `view`'s recorded camera, at any image size) with the correction applied.
   Camera camera(std::size_t view, const Camera& base) const { return correction(view).applied_to(base); }
-  // Starts view `view` from `correction` (its Adam state unchanged).
+  // Starts view `view` from `correction`'s rotation and translation (its pivot and Adam state
+  // unchanged).
   void set_correction(std::size_t view, const PoseCorrection& correction);
 
   // One Adam step of view `view`'s correction, from ∂L/∂pose of a render with camera(view, base).
@@ -64,6 +67,7 @@ class PoseRefiner {
 
  private:
   float extent_ = 1.0f;
+  std::vector<float> pivot_depths_;  // [view]
   PerViewAdam adam_;  // per view: the quaternion (w, x, y, z), then τ
 };
 

@@ -1,5 +1,6 @@
 #include "splat/train/splat_trainer.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <tbb/blocked_range.h>
@@ -14,6 +15,24 @@
 namespace splat {
 
 namespace {
+
+// Where the scene is: the median of the point cloud per axis (robust to stray points), or
+// without one the mean of the training cameras' centres (the middle of a capture around it).
+glm::vec3 scene_centre(const Dataset& dataset) {
+  if (dataset.points && dataset.points->size() > 0) {
+    std::vector<float> axis(dataset.points->size());
+    glm::vec3 median;
+    for (int a = 0; a < 3; ++a) {
+      for (std::size_t i = 0; i < axis.size(); ++i) axis[i] = dataset.points->positions[3 * i + a];
+      std::nth_element(axis.begin(), axis.begin() + axis.size() / 2, axis.end());
+      median[a] = axis[axis.size() / 2];
+    }
+    return median;
+  }
+  glm::vec3 mean(0.0f);
+  for (const DatasetView& view : dataset.train) mean += view.camera.center_in_world() / float(dataset.train.size());
+  return mean;
+}
 
 using training::all_finite;
 using training::Clock;
@@ -61,7 +80,10 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
     if (!(config_.pose_lr_decay_until > 0.0f && config_.pose_lr_decay_until <= 1.0f))
       throw ArgumentError("pose refinement: pose_lr_decay_until must be in (0, 1]");
     if (config_.test_pose_alignment_steps < 0) throw ArgumentError("test_pose_alignment_steps must be >= 0");
-    pose_refiner_ = PoseRefiner(dataset.train.size(), scene_extent_);
+    scene_centre_ = scene_centre(dataset);
+    std::vector<float> pivots;
+    for (const DatasetView& view : dataset.train) pivots.push_back(pose_pivot_depth(view.camera));
+    pose_refiner_ = PoseRefiner(dataset.train.size(), scene_extent_, pivots);
   }
   if (config_.exposure_compensation) {
     if (!(config_.exposure_lr >= 0.0f && std::isfinite(config_.exposure_lr)))
@@ -240,6 +262,12 @@ std::vector<Camera> SplatTrainer::training_cameras() const {
   return cameras;
 }
 
+float SplatTrainer::pose_pivot_depth(const Camera& camera) const {
+  if (!config_.pose_pivot_at_scene) return 0.0f;
+  const glm::vec3 centre = camera.camera_from_world_rotation * scene_centre_ + camera.camera_from_world_translation;
+  return std::max(0.0f, centre.z);
+}
+
 Camera SplatTrainer::scoring_camera(const DatasetView& view) const {
   if (!config_.refine_poses) return view.camera;
   PoseAlignmentSettings alignment;
@@ -248,7 +276,9 @@ Camera SplatTrainer::scoring_camera(const DatasetView& view) const {
   // Decaying as training's rates do: large steps find the frame, small ones settle in it.
   alignment.lr_final_factor = config_.pose_lr_final_factor;
   alignment.ssim_weight = config_.ssim_weight;
-  return align_pose(model_, view.camera, view.image, render_settings(), alignment, scene_extent_)
+  PoseCorrection start;
+  start.pivot_depth = pose_pivot_depth(view.camera);
+  return align_pose(model_, view.camera, view.image, render_settings(), alignment, scene_extent_, start)
       .correction.applied_to(view.camera);
 }
 

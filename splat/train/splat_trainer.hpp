@@ -123,6 +123,9 @@ class SplatTrainer {
   const Image& training_image(std::size_t view, int divisor);
   GroupLearningRates learning_rates() const;
   PoseLearningRates pose_learning_rates() const;
+  // The pivot of `camera`'s pose correction: the depth of the scene's centre in front of it
+  // under pose_pivot_at_scene (0 if behind it), else 0 (the camera centre).
+  float pose_pivot_depth(const Camera& camera) const;
   RenderSettings render_settings() const;
   // How far the run's schedules (position step, growth and pruning phases) have advanced, in
   // the schedule's iterations: `iteration` itself, or under schedule_follows_budget the
@@ -148,6 +151,7 @@ class SplatTrainer {
   Image v_image_;
   SsimScratch ssim_scratch_;
   std::vector<std::vector<Image>> reduced_images_;  // [divisor][view], empty until needed
+  glm::vec3 scene_centre_{0.0f};                   // the point cloud's median, else the cameras' mean
   PoseRefiner pose_refiner_;                        // [train view] under refine_poses
   ExposureCompensation exposure_;                   // [train view] under exposure_compensation
   Image compensated_;                               // the render through the view's map

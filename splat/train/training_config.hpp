@@ -79,6 +79,10 @@ struct SplatTrainingConfig {
   // The fraction of the schedule over which the rates decay (then they stay at the final
   // rate): below 1, poses travel early and are held still while the detail is built.
   float pose_lr_decay_until = 1.0f;
+  // Turn each correction about the scene's centre's depth on the camera's optical axis
+  // instead of the camera centre: the image's shift and its parallax become separate
+  // coordinates (apply_pose_correction), so the weakly seen parallax is not left behind.
+  bool pose_pivot_at_scene = false;
   int test_pose_alignment_steps = 30;
 
   // Exposure compensation (--exposure-compensation; splat/train/exposure_compensation.hpp):

@@ -137,18 +137,20 @@ TEST(ProjectionVjp, CameraPose) {
   }
 }
 
-// Inputs the correction's quaternion (4) and translation (3); outputs W (9) and t (3).
+// Inputs the correction's quaternion (4) and translation (3); outputs W (9) and t (3); about
+// the camera centre and about a pivot in front of it.
 TEST(ProjectionVjp, PoseCorrection) {
   const Mat3<D> rotation0 = quat_to_rotmat(Vec4<D>(0.7, -0.3, 0.2, 0.5));
   const Vec3<D> translation0(0.3, -0.8, 4.1);
-  for (unsigned seed = 1; seed <= 3; ++seed) {
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    const Vec3<D> pivot = seed % 2 == 0 ? Vec3<D>(0.2, -0.1, 3.7) : Vec3<D>(0.0);
     std::vector<D> x = random_vector(7, seed, 0.1);
     x[0] += 1.0;  // near the identity, as corrections are
     auto f = [&](const std::vector<D>& in) {
       Mat3<D> w;
       Vec3<D> t;
       apply_pose_correction(Vec4<D>(in[0], in[1], in[2], in[3]), Vec3<D>(in[4], in[5], in[6]), rotation0,
-                            translation0, w, t);
+                            translation0, w, t, pivot);
       std::vector<D> out;
       mat_to(w, out);
       for (int a = 0; a < 3; ++a) out.push_back(t[a]);
@@ -158,17 +160,22 @@ TEST(ProjectionVjp, PoseCorrection) {
     Vec4<D> v_q;
     Vec3<D> v_tau;
     apply_pose_correction_vjp(Vec4<D>(x[0], x[1], x[2], x[3]), rotation0, translation0, mat_from(v, 0),
-                              Vec3<D>(v[9], v[10], v[11]), v_q, v_tau);
+                              Vec3<D>(v[9], v[10], v[11]), v_q, v_tau, pivot);
     expect_vjp_matches(f, x, v, {v_q[0], v_q[1], v_q[2], v_q[3], v_tau[0], v_tau[1], v_tau[2]},
                        "pose correction");
   }
-  // The identity correction leaves the pose unchanged.
+  // The identity correction leaves the pose unchanged, about any pivot; a turn about the
+  // pivot keeps the pivot where it was in the camera's frame.
+  const Vec3<D> pivot(0.2, -0.1, 3.7);
   Mat3<D> w;
   Vec3<D> t;
-  apply_pose_correction(Vec4<D>(1, 0, 0, 0), Vec3<D>(0.0), rotation0, translation0, w, t);
+  apply_pose_correction(Vec4<D>(1, 0, 0, 0), Vec3<D>(0.0), rotation0, translation0, w, t, pivot);
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(at(w, r, c), at(rotation0, r, c), 1e-15);
   EXPECT_NEAR(glm::length(t - translation0), 0.0, 1e-15);
+  const Vec3<D> pivot_world = glm::transpose(rotation0) * (pivot - translation0);  // W₀ x + t₀ = p
+  apply_pose_correction(Vec4<D>(0.9, 0.2, -0.3, 0.1), Vec3<D>(0.0), rotation0, translation0, w, t, pivot);
+  EXPECT_NEAR(glm::length(w * pivot_world + t - pivot), 0.0, 1e-12);
 }
 
 TEST(ProjectionVjp, ConicFromCovariance) {

@@ -49,17 +49,25 @@ TEST(PoseAlignment, RecoversAKnownPerturbation) {
   const double offset_before = glm::length(wrong.center_in_world() - truth.center_in_world());
   ASSERT_NEAR(angle_before, 2.0, 1e-3);
 
-  PoseAlignmentSettings settings;
-  settings.steps = 200;
-  const PoseAlignmentResult result = align_pose(model, wrong, photo, render, settings, 3.0f);
-  const Camera aligned = result.correction.applied_to(wrong);
-  const double angle_after = angle_between_deg(aligned.camera_from_world_rotation, truth.camera_from_world_rotation);
-  const double offset_after = glm::length(aligned.center_in_world() - truth.center_in_world());
-  std::printf("rotation error %.3f -> %.3f deg, centre offset %.4f -> %.4f, loss %.5f -> %.5f\n", angle_before,
-              angle_after, offset_before, offset_after, result.first_loss, result.loss);
-  EXPECT_LT(angle_after, 0.1 * angle_before);
-  EXPECT_LT(offset_after, 0.1 * offset_before);
-  EXPECT_LT(result.loss, 0.2 * result.first_loss);
+  // About the camera centre and about the scene's centre, 3 units in front (the two
+  // parametrisations of a correction).
+  for (float pivot_depth : {0.0f, 3.0f}) {
+    SCOPED_TRACE(pivot_depth);
+    PoseAlignmentSettings settings;
+    settings.steps = 200;
+    PoseCorrection start;
+    start.pivot_depth = pivot_depth;
+    const PoseAlignmentResult result = align_pose(model, wrong, photo, render, settings, 3.0f, start);
+    const Camera aligned = result.correction.applied_to(wrong);
+    const double angle_after =
+        angle_between_deg(aligned.camera_from_world_rotation, truth.camera_from_world_rotation);
+    const double offset_after = glm::length(aligned.center_in_world() - truth.center_in_world());
+    std::printf("pivot %.0f: rotation error %.3f -> %.3f deg, centre offset %.4f -> %.4f, loss %.5f -> %.5f\n",
+                pivot_depth, angle_before, angle_after, offset_before, offset_after, result.first_loss, result.loss);
+    EXPECT_LT(angle_after, 0.1 * angle_before);
+    EXPECT_LT(offset_after, 0.1 * offset_before);
+    EXPECT_LT(result.loss, 0.2 * result.first_loss);
+  }
 }
 
 TEST(PoseAlignment, LeavesTheRightPoseAlone) {
