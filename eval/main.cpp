@@ -44,8 +44,9 @@ for the splat methods only, all views and each pose noise level again with --ref
 whose test views are aligned to their photographs with the model fixed before they are
 scored), each trained S seconds and scored once, into stability.json (PSNR, SSIM, time, model
 size and a verdict per run: diverged, collapsed = no better than the background alone + 1 dB,
-degraded = over 3 dB below the method's all-views run, else ok) and
-stability/<condition>/<method>/.
+degraded = over 3 dB below the method's all-views run, else ok; for a refined run also its
+training cameras' error against the true poses, before and after, once a similarity is
+fitted) and stability/<condition>/<method>/.
 
 With --sweep-gaussians N,N,..., instead: one splat method (splat, i.e. compact, unless
 --methods splat-official) under each Gaussian budget for S seconds, into sweep.json (PSNR,

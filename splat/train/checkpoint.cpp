@@ -148,7 +148,7 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
     for (std::vector<float>& a : exposure_arrays) read_array(in, a, remaining, file);
   try {
     if (config_.refine_poses) {
-      pose_refiner_ = PoseRefiner(dataset_.train.size(), scene_extent_);
+      pose_refiner_ = new_pose_refiner();
       pose_refiner_.restore(pose_arrays[0], pose_arrays[1], pose_arrays[2],
                             header.at("pose_steps").get<std::vector<long long>>());
     }

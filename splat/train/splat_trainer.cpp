@@ -81,9 +81,7 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
       throw ArgumentError("pose refinement: pose_lr_decay_until must be in (0, 1]");
     if (config_.test_pose_alignment_steps < 0) throw ArgumentError("test_pose_alignment_steps must be >= 0");
     scene_centre_ = scene_centre(dataset);
-    std::vector<float> pivots;
-    for (const DatasetView& view : dataset.train) pivots.push_back(pose_pivot_depth(view.camera));
-    pose_refiner_ = PoseRefiner(dataset.train.size(), scene_extent_, pivots);
+    pose_refiner_ = new_pose_refiner();
   }
   if (config_.exposure_compensation) {
     if (!(config_.exposure_lr >= 0.0f && std::isfinite(config_.exposure_lr)))
@@ -260,6 +258,12 @@ std::vector<Camera> SplatTrainer::training_cameras() const {
     cameras.push_back(config_.refine_poses ? pose_refiner_.camera(v, dataset_.train[v].camera)
                                            : dataset_.train[v].camera);
   return cameras;
+}
+
+PoseRefiner SplatTrainer::new_pose_refiner() const {
+  std::vector<float> pivots;
+  for (const DatasetView& view : dataset_.train) pivots.push_back(pose_pivot_depth(view.camera));
+  return PoseRefiner(dataset_.train.size(), scene_extent_, pivots);
 }
 
 float SplatTrainer::pose_pivot_depth(const Camera& camera) const {

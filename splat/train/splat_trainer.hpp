@@ -126,6 +126,8 @@ class SplatTrainer {
   // The pivot of `camera`'s pose correction: the depth of the scene's centre in front of it
   // under pose_pivot_at_scene (0 if behind it), else 0 (the camera centre).
   float pose_pivot_depth(const Camera& camera) const;
+  // The training views' corrections at the identity, each with its pivot.
+  PoseRefiner new_pose_refiner() const;
   RenderSettings render_settings() const;
   // How far the run's schedules (position step, growth and pruning phases) have advanced, in
   // the schedule's iterations: `iteration` itself, or under schedule_follows_budget the

@@ -68,21 +68,21 @@ struct SplatTrainingConfig {
   // fixed (the same rates, decaying over the steps to the same factor; the best pose seen
   // is kept).
   bool refine_poses = false;
-  int pose_refine_from = 500;
+  int pose_refine_from = 100;
   // Adam's steps are about the rate's size whatever the gradient, so on good poses the rate
-  // is the jitter and the drift of the frame: at 1e-3 lego400's clean poses cost 1.3 dB in
-  // 120 s, at 3e-4 0.2 dB (bench/README.md, issue 15). Decaying only to a tenth leaves the
-  // small rate enough travel over a run for poses 1° / 1 % off.
-  float pose_rotation_lr = 3e-4f;     // on the correction quaternion's components
-  float pose_translation_lr = 3e-4f;  // on the translation, in units of the scene extent
-  float pose_lr_final_factor = 0.1f;
+  // is the jitter and the drift of the frame, and on poses 1° off it is how fast they travel.
+  // Turned about the scene (below), 10⁻³ decaying to 3 % takes lego400's poses from 1° / 1 %
+  // to 0.06° / 0.07 % in 10 minutes, and costs clean poses 0.19 dB (bench/README.md, issue 15).
+  float pose_rotation_lr = 1e-3f;     // on the correction quaternion's components
+  float pose_translation_lr = 1e-3f;  // on the translation, in units of the scene extent
+  float pose_lr_final_factor = 0.03f;
   // The fraction of the schedule over which the rates decay (then they stay at the final
   // rate): below 1, poses travel early and are held still while the detail is built.
   float pose_lr_decay_until = 1.0f;
   // Turn each correction about the scene's centre's depth on the camera's optical axis
   // instead of the camera centre: the image's shift and its parallax become separate
   // coordinates (apply_pose_correction), so the weakly seen parallax is not left behind.
-  bool pose_pivot_at_scene = false;
+  bool pose_pivot_at_scene = true;
   int test_pose_alignment_steps = 30;
 
   // Exposure compensation (--exposure-compensation; splat/train/exposure_compensation.hpp):
