@@ -2,9 +2,10 @@
 // views, each first aligned to its photograph by N pose-only steps (the scoring protocol of
 // splat/train/pose_alignment.hpp) at a given start rate decaying to a given factor; N = 0
 // scores the recorded poses. Shows how much of a refined model's score the alignment's step
-// budget decides (bench/README.md, issue 15). Prints one JSON line.
-//   build/bench/splat-alignment-rescore --model M.ply --data DIR [--steps 30] [--lr 3e-4]
-//       [--final-factor 0.1] [--threads N]
+// budget decides (bench/README.md, issue 15). Prints one JSON line. The rate and factor
+// default to training's (SplatTrainingConfig); the corrections turn about the camera centre.
+//   build/bench/splat-alignment-rescore --model M.ply --data DIR [--steps 30] [--lr R]
+//       [--final-factor F] [--threads N]
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -18,6 +19,7 @@
 #include "splat/gaussians/ply_io.hpp"
 #include "splat/optim/photometric_loss.hpp"
 #include "splat/train/pose_alignment.hpp"
+#include "splat/train/training_config.hpp"
 
 int main(int argc, char** argv) {
   return splat::cli::run_main([&] {
@@ -28,9 +30,10 @@ int main(int argc, char** argv) {
     splat::PoseAlignmentSettings alignment;
     alignment.steps = 30;
     if (auto n = args.number("steps")) alignment.steps = int(*n);
-    const float lr = float(args.number("lr").value_or(3e-4));
+    const splat::SplatTrainingConfig training;
+    const float lr = float(args.number("lr").value_or(training.pose_rotation_lr));
     alignment.lr = {lr, lr};
-    alignment.lr_final_factor = float(args.number("final-factor").value_or(0.1));
+    alignment.lr_final_factor = float(args.number("final-factor").value_or(training.pose_lr_final_factor));
     std::unique_ptr<tbb::global_control> threads;
     if (auto n = args.positive_integer("threads"))
       threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, *n);
