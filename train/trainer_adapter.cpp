@@ -99,9 +99,11 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
     j["training_views"] = refiner.views();
     j["mean_rotation_correction_deg"] = rotation_deg / views;
     j["mean_translation_correction"] = translation / views;
-    j["test_protocol"] = "each test view's pose is first aligned to its photograph by " +
-                         std::to_string(trainer_.config().test_pose_alignment_steps) +
-                         " pose-only Adam steps with the model fixed, then scored";
+    j["test_protocol"] =
+        "each test view's pose is first carried into the model's frame by the similarity the training "
+        "views' poses moved by, then aligned to its photograph by " +
+        std::to_string(trainer_.config().test_pose_alignment_steps) +
+        " pose-only Adam steps with the model fixed, then scored";
     return j;
   }
 };

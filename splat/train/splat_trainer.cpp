@@ -6,6 +6,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
+#include "splat/core/frame_change.hpp"
 #include "splat/data/resample.hpp"
 #include "splat/eval/metrics.hpp"
 #include "splat/gaussians/initialization.hpp"
@@ -274,6 +275,12 @@ float SplatTrainer::pose_pivot_depth(const Camera& camera) const {
 
 Camera SplatTrainer::scoring_camera(const DatasetView& view) const {
   if (!config_.refine_poses) return view.camera;
+  // Training moved the frame as a whole (a small turn, shift and scale): the view's recorded
+  // pose is carried into the model's frame by the similarity the training views' poses
+  // moved by, and the alignment then corrects what is the view's own.
+  std::vector<Camera> recorded;
+  for (const DatasetView& training_view : dataset_.train) recorded.push_back(training_view.camera);
+  const Camera start_camera = fit_frame_change(recorded, training_cameras()).applied_to(view.camera);
   PoseAlignmentSettings alignment;
   alignment.steps = config_.test_pose_alignment_steps;
   alignment.lr = {config_.pose_rotation_lr, config_.pose_translation_lr};
@@ -281,9 +288,9 @@ Camera SplatTrainer::scoring_camera(const DatasetView& view) const {
   alignment.lr_final_factor = config_.pose_lr_final_factor;
   alignment.ssim_weight = config_.ssim_weight;
   PoseCorrection start;
-  start.pivot_depth = pose_pivot_depth(view.camera);
-  return align_pose(model_, view.camera, view.image, render_settings(), alignment, scene_extent_, start)
-      .correction.applied_to(view.camera);
+  start.pivot_depth = pose_pivot_depth(start_camera);
+  return align_pose(model_, start_camera, view.image, render_settings(), alignment, scene_extent_, start)
+      .correction.applied_to(start_camera);
 }
 
 Evaluation SplatTrainer::evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) {
