@@ -4,8 +4,10 @@
 // scores the recorded poses. Shows how much of a refined model's score the alignment's step
 // budget decides (bench/README.md, issue 15). Prints one JSON line. The rate and factor
 // default to training's (SplatTrainingConfig); the corrections turn about the camera centre.
+// With --training-cameras (the run's training_cameras.json) each test pose is first carried
+// into the model's frame by the similarity the training poses moved by, as the trainer does.
 //   build/bench/splat-alignment-rescore --model M.ply --data DIR [--steps 30] [--lr R]
-//       [--final-factor F] [--threads N]
+//       [--final-factor F] [--training-cameras FILE] [--threads N]
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -14,7 +16,10 @@
 
 #include "common/arg_parser.hpp"
 #include "common/run_main.hpp"
+#include "splat/core/error.hpp"
+#include "splat/core/frame_change.hpp"
 #include "splat/data/dataset.hpp"
+#include "splat/data/transforms_json.hpp"
 #include "splat/eval/metrics.hpp"
 #include "splat/gaussians/ply_io.hpp"
 #include "splat/optim/photometric_loss.hpp"
@@ -23,10 +28,20 @@
 
 int main(int argc, char** argv) {
   return splat::cli::run_main([&] {
-    splat::cli::ArgParser args(argc, argv, {"model", "data", "steps", "lr", "final-factor", "threads"}, {});
+    splat::cli::ArgParser args(argc, argv, {"model", "data", "steps", "lr", "final-factor", "training-cameras", "threads"}, {});
     args.expect_no_positionals();
     const splat::GaussianModel model = splat::read_ply(args.required("model"));
     const splat::Dataset dataset = splat::load_dataset(args.required("data"));
+    splat::FrameChange frame_change;  // none unless the trained poses are given
+    if (auto file = args.value("training-cameras")) {
+      std::vector<splat::Camera> recorded, trained;
+      for (const splat::DatasetView& view : dataset.train) recorded.push_back(view.camera);
+      for (const splat::CameraFrame& frame : splat::load_transforms(*file)) trained.push_back(frame.camera);
+      if (trained.size() != recorded.size())
+        throw splat::InputError(*file, std::to_string(trained.size()) + " cameras, but the data has " +
+                                           std::to_string(recorded.size()) + " training views");
+      frame_change = splat::fit_frame_change(recorded, trained);
+    }
     splat::PoseAlignmentSettings alignment;
     alignment.steps = 30;
     if (auto n = args.number("steps")) alignment.steps = int(*n);
@@ -41,11 +56,12 @@ int main(int argc, char** argv) {
     render.sh_degree = model.sh_degree;
     double sum = 0;
     for (const splat::DatasetView& view : dataset.test) {
+      const splat::Camera start = frame_change.applied_to(view.camera);
       const splat::Camera camera =
           alignment.steps > 0
-              ? splat::align_pose(model, view.camera, view.image, render, alignment, dataset.scene_extent)
-                    .correction.applied_to(view.camera)
-              : view.camera;
+              ? splat::align_pose(model, start, view.image, render, alignment, dataset.scene_extent)
+                    .correction.applied_to(start)
+              : start;
       splat::Rasterizer rasterizer;
       splat::RenderResult result;
       rasterizer.render(model, camera, render, result);

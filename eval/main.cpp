@@ -41,12 +41,13 @@ With --stability, instead: the methods (default splat and nerf) under each condi
 training views; only 8, 16, 32 of them; training poses turned 0.25/1/3 degrees and moved
 0.25/1/3 % of the scene extent; random initialisation when the data has a point cloud; and,
 for the splat methods only, all views and each pose noise level again with --refine-poses,
-whose test views are aligned to their photographs with the model fixed before they are
-scored), each trained S seconds and scored once, into stability.json (PSNR, SSIM, time, model
-size and a verdict per run: diverged, collapsed = no better than the background alone + 1 dB,
+whose test views are carried into the model's frame by the similarity the training poses
+moved by and aligned to their photographs with the model fixed before they are scored),
+each trained S seconds and scored once, into stability.json (PSNR, SSIM, time, model size
+and a verdict per run: diverged, collapsed = no better than the background alone + 1 dB,
 degraded = over 3 dB below the method's all-views run, else ok; for a refined run also its
 training cameras' error against the true poses, before and after, once a similarity is
-fitted) and stability/<condition>/<method>/.
+fitted) and stability/<condition>/<method>/ (a refined run's training_cameras.json there).
 
 With --sweep-gaussians N,N,..., instead: one splat method (splat, i.e. compact, unless
 --methods splat-official) under each Gaussian budget for S seconds, into sweep.json (PSNR,

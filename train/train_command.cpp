@@ -242,6 +242,8 @@ void TrainingRun::write_outputs(const std::string& stopped_by, double train_seco
     write_png(renders[i], options_.out / "test" / (dataset_.test[i].name + ".png"));
   const fs::path model_file = model_path();
   trainer_->write_model(model_file);
+  const fs::path cameras_file = options_.out / kTrainingCamerasFileName;
+  const bool wrote_cameras = write_refined_training_cameras(*trainer_, dataset_, cameras_file);
   write_json(options_.out / "metrics.json", metrics(stopped_by, train_seconds, fs::file_size(model_file)));
   if (!options_.quiet) {
     char line[256];
@@ -251,6 +253,7 @@ void TrainingRun::write_outputs(const std::string& stopped_by, double train_seco
                   last_test_->psnr, last_test_->ssim, last_test_->views);
     progress_.message(line);
     progress_.message("outputs: " + model_file.string() + ", " +
+                      (wrote_cameras ? cameras_file.string() + ", " : std::string()) +
                       (options_.out / "metrics.json").string() + ", " +
                       (options_.out / "test").string() + "/*.png");
   }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "splat/data/orbit_cameras.hpp"
 #include "splat/gaussians/ply_io.hpp"
 #include "splat/nerf/nerf_file.hpp"
 #include "splat/train/nerf_trainer.hpp"
@@ -153,6 +154,16 @@ std::unique_ptr<TrainerAdapter> make_trainer(const TrainCommandOptions& options,
   if (options.method == "nerf")
     return std::make_unique<NerfAdapter>(dataset, with_scene_box(options.nerf_config, dataset));
   return std::make_unique<SplatAdapter>(dataset, options.config);
+}
+
+bool write_refined_training_cameras(const TrainerAdapter& trainer, const Dataset& dataset,
+                                    const std::filesystem::path& file) {
+  const std::vector<Camera> cameras = trainer.refined_training_cameras();
+  if (cameras.empty()) return false;
+  std::vector<std::string> names;
+  for (const DatasetView& view : dataset.train) names.push_back(view.name);
+  write_transforms(file, cameras, names);
+  return true;
 }
 
 }  // namespace splat::cli

@@ -51,4 +51,12 @@ class TrainerAdapter {
 
 std::unique_ptr<TrainerAdapter> make_trainer(const TrainCommandOptions& options, const Dataset& dataset);
 
+// Where a run under pose refinement leaves its training views' cameras as trained, beside the
+// model: transforms JSON that splat-render --cameras reads (each frame named as its view).
+inline constexpr const char* kTrainingCamerasFileName = "training_cameras.json";
+// Writes them to `file` (atomically) and returns true, or writes nothing and returns false
+// when the method corrected no poses.
+bool write_refined_training_cameras(const TrainerAdapter& trainer, const Dataset& dataset,
+                                    const std::filesystem::path& file);
+
 }  // namespace splat::cli

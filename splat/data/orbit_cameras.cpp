@@ -69,7 +69,18 @@ void write_transforms(const std::filesystem::path& file, const std::vector<Camer
       matrix.push_back({world_from_camera[0][row], -world_from_camera[1][row],
                         -world_from_camera[2][row], center[row]});
     matrix.push_back({0.0, 0.0, 0.0, 1.0});
-    frames.push_back({{"file_path", file_paths[i]}, {"transform_matrix", matrix}});
+    nlohmann::json frame = {{"file_path", file_paths[i]}, {"transform_matrix", matrix}};
+    // A frame whose intrinsics differ from the first's carries its own (one camera per image).
+    if (cam.fx != first.fx || cam.fy != first.fy || cam.cx != first.cx || cam.cy != first.cy ||
+        cam.width != first.width || cam.height != first.height) {
+      frame["fl_x"] = cam.fx;
+      frame["fl_y"] = cam.fy;
+      frame["cx"] = cam.cx;
+      frame["cy"] = cam.cy;
+      frame["w"] = cam.width;
+      frame["h"] = cam.height;
+    }
+    frames.push_back(frame);
   }
   doc["frames"] = frames;
   write_atomically(file, [&](const std::filesystem::path& temp) {

@@ -27,8 +27,9 @@ std::vector<Camera> orbit_cameras(const OrbitRig& rig);
 Camera look_at(const glm::vec3& eye, const glm::vec3& target, const glm::vec3& up, float fx,
                float fy, int width, int height);
 
-// Writes cameras as transforms JSON (camera_angle_x plus fl_x/fl_y/cx/cy/w/h, and per
-// frame file_path and the OpenGL camera-to-world transform_matrix), atomically.
+// Writes cameras as transforms JSON (camera_angle_x plus fl_x/fl_y/cx/cy/w/h of the first,
+// and per frame file_path, the OpenGL camera-to-world transform_matrix, and the intrinsics of a
+// frame whose own differ from the first's), atomically.
 // `file_paths[i]` is frame i's file_path, e.g. "./test/r_0".
 void write_transforms(const std::filesystem::path& file, const std::vector<Camera>& cameras,
                       const std::vector<std::string>& file_paths);

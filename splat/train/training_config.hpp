@@ -64,9 +64,9 @@ struct SplatTrainingConfig {
   // pose_refine_from on, each training view's pose carries a correction optimised with the
   // scene (Adam, its rates decaying exponentially to pose_lr_final_factor of themselves over
   // the schedule), and before they are scored the test views are aligned to their photographs
-  // by test_pose_alignment_steps pose-only steps from their recorded poses with the model
-  // fixed (the same rates, decaying over the steps to the same factor; the best pose seen
-  // is kept).
+  // by test_pose_alignment_steps pose-only steps with the model fixed, from their recorded
+  // poses carried into the model's frame (splat/core/frame_change.hpp; the same rates,
+  // decaying over the steps to the same factor; the best pose seen is kept).
   bool refine_poses = false;
   int pose_refine_from = 100;
   // Adam's steps are about the rate's size whatever the gradient, so on good poses the rate
@@ -83,7 +83,9 @@ struct SplatTrainingConfig {
   // instead of the camera centre: the image's shift and its parallax become separate
   // coordinates (apply_pose_correction), so the weakly seen parallax is not left behind.
   bool pose_pivot_at_scene = true;
-  int test_pose_alignment_steps = 30;
+  // 100 rather than 30: on lego400's refined models, 30 steps from the recorded poses left
+  // 0.3–0.6 dB that 100 recovered (bench/README.md, issue 15).
+  int test_pose_alignment_steps = 100;
 
   // Exposure compensation (--exposure-compensation; splat/train/exposure_compensation.hpp):
   // from iteration exposure_from on, each training view's render passes through its own

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "splat/data/transforms_json.hpp"
 #include "splat/gaussians/ply_io.hpp"
 #include "test_support.hpp"
 
@@ -124,6 +125,7 @@ TEST(TrainCli, ResumeContinuesExactly) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(test::read_file(dir / "straight" / "model.ply") == test::read_file(dir / "split" / "model.ply"))
         << strategy << ": the resumed run's model differs from the uninterrupted run's";
+    EXPECT_FALSE(fs::exists(dir / "straight" / "training_cameras.json")) << "no poses were refined";
   }
 }
 
@@ -149,6 +151,15 @@ TEST(TrainCli, PoseRefinementAndExposureMapsResumeExactlyAndReportTheirProtocol)
   EXPECT_GT(m["pose_refinement"]["mean_rotation_correction_deg"].get<double>(), 0.0);  // it moved
   EXPECT_NE(m["pose_refinement"]["test_protocol"].get<std::string>().find("aligned"), std::string::npos);
   EXPECT_EQ(read_json(dir / "straight" / "config.json")["refine_poses"], true);
+  // The training views' poses as trained, one frame per view, readable as cameras.
+  const std::vector<CameraFrame> trained = load_transforms(dir / "straight" / "training_cameras.json");
+  ASSERT_EQ(trained.size(), 12u);
+  const std::vector<CameraFrame> recorded = load_transforms(tiny_dataset() / "transforms_train.json");
+  double moved = 0;
+  for (std::size_t i = 0; i < trained.size(); ++i)
+    moved = std::max(moved, double(glm::length(trained[i].camera.camera_from_world_translation -
+                                               recorded[i].camera.camera_from_world_translation)));
+  EXPECT_GT(moved, 0.0);
   ASSERT_TRUE(m.contains("exposure_compensation")) << m.dump();
   EXPECT_GT(m["exposure_compensation"]["max_abs_log_gain"].get<double>(), 0.0);  // the maps moved
   EXPECT_NE(m["exposure_compensation"]["test_protocol"].get<std::string>().find("without"), std::string::npos);

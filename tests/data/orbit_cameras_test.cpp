@@ -54,6 +54,28 @@ TEST(OrbitCameras, WrittenTransformsLoadBackAsTheSameCameras) {
   }
 }
 
+TEST(OrbitCameras, AFrameWithItsOwnIntrinsicsKeepsThem) {
+  // One camera per image (as COLMAP captures have): each frame's intrinsics survive.
+  const auto dir = test::scratch_dir("orbit_roundtrip_intrinsics");
+  OrbitRig rig;
+  rig.count = 3;
+  std::vector<Camera> cams = orbit_cameras(rig);
+  cams[1].fx = 321.5f;
+  cams[1].cy = 190.25f;
+  cams[2] = cams[2].resized(200, 150);
+  write_transforms(dir / "t.json", cams, {"a", "b", "c"});
+  const auto frames = load_transforms(dir / "t.json");
+  ASSERT_EQ(frames.size(), 3u);
+  for (std::size_t i = 0; i < cams.size(); ++i) {
+    EXPECT_EQ(frames[i].camera.width, cams[i].width) << i;
+    EXPECT_EQ(frames[i].camera.height, cams[i].height) << i;
+    EXPECT_NEAR(frames[i].camera.fx, cams[i].fx, 1e-3) << i;
+    EXPECT_NEAR(frames[i].camera.fy, cams[i].fy, 1e-3) << i;
+    EXPECT_NEAR(frames[i].camera.cx, cams[i].cx, 1e-4) << i;
+    EXPECT_NEAR(frames[i].camera.cy, cams[i].cy, 1e-4) << i;
+  }
+}
+
 TEST(DemoModel, IsValidAndVisibleFromItsOrbit) {
   const GaussianModel model = make_demo_model(3000);
   model.check_consistent();
