@@ -26,6 +26,16 @@ glm::dmat3 to_glm(const Eigen::Matrix3d& e) {
 
 glm::dvec3 centre(const Camera& camera) { return glm::dvec3(camera.center_in_world()); }
 
+// The rotation nearest to `m` (by its SVD; a rotation, not a reflection), and the diagonal
+// that makes it one: the closed form both fits share.
+glm::dmat3 nearest_rotation(const Eigen::Matrix3d& m, Eigen::Vector3d* singular_values_signed = nullptr) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Vector3d sign(1, 1, 1);
+  if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0) sign[2] = -1;
+  if (singular_values_signed) *singular_values_signed = svd.singularValues().cwiseProduct(sign);
+  return to_glm(svd.matrixU() * sign.asDiagonal() * svd.matrixV().transpose());
+}
+
 }  // namespace
 
 Camera FrameChange::applied_to(const Camera& camera) const {
@@ -52,11 +62,8 @@ FrameChange fit_frame_change(const std::vector<Camera>& recorded, const std::vec
   for (std::size_t i = 0; i < n; ++i)
     sum += to_eigen(glm::transpose(glm::dmat3(refined[i].camera_from_world_rotation)) *
                     glm::dmat3(recorded[i].camera_from_world_rotation));
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(sum, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Vector3d sign(1, 1, 1);
-  if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0) sign[2] = -1;
   FrameChange change;
-  change.rotation = to_glm(svd.matrixU() * sign.asDiagonal() * svd.matrixV().transpose());
+  change.rotation = nearest_rotation(sum);
 
   glm::dvec3 mean_recorded(0.0), mean_refined(0.0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -73,6 +80,33 @@ FrameChange fit_frame_change(const std::vector<Camera>& recorded, const std::vec
   if (spread > 1e-12 * double(n) * (1.0 + glm::dot(mean_recorded, mean_recorded)) && along > 0)
     change.scale = along / spread;
   change.translation = mean_refined - change.scale * (change.rotation * mean_recorded);
+  return change;
+}
+
+FrameChange fit_point_similarity(const std::vector<glm::dvec3>& from, const std::vector<glm::dvec3>& to) {
+  if (from.size() != to.size())
+    throw ArgumentError("similarity fit: " + std::to_string(from.size()) + " points against " +
+                        std::to_string(to.size()));
+  const std::size_t n = from.size();
+  if (n < 3) throw ArgumentError("similarity fit: needs at least 3 points");
+  glm::dvec3 mean_from(0.0), mean_to(0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    mean_from += from[i] / double(n);
+    mean_to += to[i] / double(n);
+  }
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  double variance_from = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::dvec3 a = from[i] - mean_from, b = to[i] - mean_to;
+    covariance += Eigen::Vector3d(b.x, b.y, b.z) * Eigen::Vector3d(a.x, a.y, a.z).transpose() / double(n);
+    variance_from += glm::dot(a, a) / double(n);
+  }
+  if (!(variance_from > 0)) throw ArgumentError("similarity fit: the points to fit share one position");
+  FrameChange change;
+  Eigen::Vector3d signed_singular_values;
+  change.rotation = nearest_rotation(covariance, &signed_singular_values);
+  change.scale = signed_singular_values.sum() / variance_from;
+  change.translation = mean_to - change.scale * (change.rotation * mean_from);
   return change;
 }
 

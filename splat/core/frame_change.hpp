@@ -31,4 +31,9 @@ struct FrameChange {
 // the recorded centres coincide). Throws ArgumentError if the sizes differ or none is given.
 FrameChange fit_frame_change(const std::vector<Camera>& recorded, const std::vector<Camera>& refined);
 
+// The similarity carrying points `from[i]` to `to[i]` by least squares (Umeyama 1991): for
+// cameras' centres, where the orientations are what is then measured against it. Throws
+// ArgumentError if the sizes differ, fewer than three points are given, or `from`'s coincide.
+FrameChange fit_point_similarity(const std::vector<glm::dvec3>& from, const std::vector<glm::dvec3>& to);
+
 }  // namespace splat

@@ -45,19 +45,22 @@ std::vector<Camera> orbit_cameras(const OrbitRig& rig) {
   return cameras;
 }
 
+namespace {
+
+nlohmann::json intrinsics_json(const Camera& camera) {
+  return {{"fl_x", camera.fx}, {"fl_y", camera.fy}, {"cx", camera.cx},
+          {"cy", camera.cy},   {"w", camera.width},  {"h", camera.height}};
+}
+
+}  // namespace
+
 void write_transforms(const std::filesystem::path& file, const std::vector<Camera>& cameras,
                       const std::vector<std::string>& file_paths) {
   if (cameras.empty() || cameras.size() != file_paths.size())
     throw ArgumentError("write_transforms: need one file path per camera, and at least one");
   const Camera& first = cameras.front();
-  nlohmann::json doc;
+  nlohmann::json doc = intrinsics_json(first);
   doc["camera_angle_x"] = 2.0 * std::atan(0.5 * first.width / first.fx);
-  doc["fl_x"] = first.fx;
-  doc["fl_y"] = first.fy;
-  doc["cx"] = first.cx;
-  doc["cy"] = first.cy;
-  doc["w"] = first.width;
-  doc["h"] = first.height;
   nlohmann::json frames = nlohmann::json::array();
   for (std::size_t i = 0; i < cameras.size(); ++i) {
     const Camera& cam = cameras[i];
@@ -71,15 +74,7 @@ void write_transforms(const std::filesystem::path& file, const std::vector<Camer
     matrix.push_back({0.0, 0.0, 0.0, 1.0});
     nlohmann::json frame = {{"file_path", file_paths[i]}, {"transform_matrix", matrix}};
     // A frame whose intrinsics differ from the first's carries its own (one camera per image).
-    if (cam.fx != first.fx || cam.fy != first.fy || cam.cx != first.cx || cam.cy != first.cy ||
-        cam.width != first.width || cam.height != first.height) {
-      frame["fl_x"] = cam.fx;
-      frame["fl_y"] = cam.fy;
-      frame["cx"] = cam.cx;
-      frame["cy"] = cam.cy;
-      frame["w"] = cam.width;
-      frame["h"] = cam.height;
-    }
+    if (const nlohmann::json own = intrinsics_json(cam); own != intrinsics_json(first)) frame.update(own);
     frames.push_back(frame);
   }
   doc["frames"] = frames;

@@ -119,6 +119,18 @@ TEST(FrameChange, PerViewErrorsAverageOut) {
   EXPECT_NEAR(found.scale, 1.3, 1e-4);
 }
 
+TEST(FrameChange, PointSimilarityRecoversAKnownOne) {
+  const FrameChange truth = known_change();
+  std::vector<glm::dvec3> from, to;
+  for (const Camera& c : random_cameras(5, 7)) {
+    from.push_back(glm::dvec3(c.center_in_world()));
+    to.push_back(truth.scale * (truth.rotation * from.back()) + truth.translation);
+  }
+  expect_same_change(fit_point_similarity(from, to), truth, 1e-9);
+  EXPECT_THROW(fit_point_similarity({from[0], from[0], from[0]}, {to[0], to[1], to[2]}), ArgumentError);
+  EXPECT_THROW(fit_point_similarity({from[0], from[1]}, {to[0], to[1]}), ArgumentError);
+}
+
 TEST(FrameChange, RejectsMismatchedSets) {
   EXPECT_THROW(fit_frame_change(random_cameras(3, 6), random_cameras(2, 6)), ArgumentError);
   EXPECT_THROW(fit_frame_change({}, {}), ArgumentError);
