@@ -72,7 +72,8 @@ struct SplatTrainingConfig {
   // Adam's steps are about the rate's size whatever the gradient, so on good poses the rate
   // is the jitter and the drift of the frame, and on poses 1° off it is how fast they travel.
   // Turned about the scene (below), 10⁻³ decaying to 3 % takes lego400's poses from 1° / 1 %
-  // to 0.06° / 0.07 % in 10 minutes, and costs clean poses 0.19 dB (bench/README.md, issue 15).
+  // to 0.06–0.07° / 0.07–0.08 % in 10 minutes, and costs clean poses 0.14 dB (bench/README.md,
+  // issue 15).
   float pose_rotation_lr = 1e-3f;     // on the correction quaternion's components
   float pose_translation_lr = 1e-3f;  // on the translation, in units of the scene extent
   float pose_lr_final_factor = 0.03f;
@@ -84,7 +85,7 @@ struct SplatTrainingConfig {
   // coordinates (apply_pose_correction), so the weakly seen parallax is not left behind.
   bool pose_pivot_at_scene = true;
   // 100 rather than 30: on lego400's refined models, 30 steps from the recorded poses left
-  // 0.3–0.6 dB that 100 recovered (bench/README.md, issue 15).
+  // 0.3–0.6 dB that 100 recovered, and 300 add under 0.1 (bench/README.md, issue 15).
   int test_pose_alignment_steps = 100;
 
   // Exposure compensation (--exposure-compensation; splat/train/exposure_compensation.hpp):
