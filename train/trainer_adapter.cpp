@@ -159,7 +159,10 @@ std::unique_ptr<TrainerAdapter> make_trainer(const TrainCommandOptions& options,
 bool write_refined_training_cameras(const TrainerAdapter& trainer, const Dataset& dataset,
                                     const std::filesystem::path& file) {
   const std::vector<Camera> cameras = trainer.refined_training_cameras();
-  if (cameras.empty()) return false;
+  if (cameras.empty()) {
+    std::filesystem::remove(file);  // an earlier refined run's in the same folder: not this model's
+    return false;
+  }
   std::vector<std::string> names;
   for (const DatasetView& view : dataset.train) names.push_back(view.name);
   write_transforms(file, cameras, names);

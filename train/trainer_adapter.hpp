@@ -54,8 +54,8 @@ std::unique_ptr<TrainerAdapter> make_trainer(const TrainCommandOptions& options,
 // Where a run under pose refinement leaves its training views' cameras as trained, beside the
 // model: transforms JSON that splat-render --cameras reads (each frame named as its view).
 inline constexpr const char* kTrainingCamerasFileName = "training_cameras.json";
-// Writes them to `file` (atomically) and returns true, or writes nothing and returns false
-// when the method corrected no poses.
+// Writes them to `file` (atomically) and returns true; when the method corrected no poses,
+// removes a `file` left by an earlier run in the same folder and returns false.
 bool write_refined_training_cameras(const TrainerAdapter& trainer, const Dataset& dataset,
                                     const std::filesystem::path& file);
 

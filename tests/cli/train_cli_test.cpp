@@ -164,6 +164,10 @@ TEST(TrainCli, PoseRefinementAndExposureMapsResumeExactlyAndReportTheirProtocol)
   EXPECT_GT(m["exposure_compensation"]["max_abs_log_gain"].get<double>(), 0.0);  // the maps moved
   EXPECT_NE(m["exposure_compensation"]["test_protocol"].get<std::string>().find("without"), std::string::npos);
   EXPECT_EQ(read_json(dir / "straight" / "config.json")["exposure_compensation"], true);
+  // A later run without refinement in the same folder leaves no poses that are not its model's.
+  r = test::run_command(train_command(dir / "straight", "--iters 20 --test-every 0 --quiet"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "straight" / "training_cameras.json"));
   // The NeRF has no poses to refine.
   r = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --data " + tiny_dataset().string() + " --out " +
                             (dir / "nerf").string() + " --method nerf --refine-poses --iters 1",
