@@ -26,6 +26,18 @@ glm::dmat3 to_glm(const Eigen::Matrix3d& e) {
 
 glm::dvec3 centre(const Camera& camera) { return glm::dvec3(camera.center_in_world()); }
 
+std::vector<glm::dvec3> centres(const std::vector<Camera>& cameras) {
+  std::vector<glm::dvec3> out;
+  for (const Camera& camera : cameras) out.push_back(centre(camera));
+  return out;
+}
+
+glm::dvec3 mean_of(const std::vector<glm::dvec3>& points) {
+  glm::dvec3 mean(0.0);
+  for (const glm::dvec3& p : points) mean += p / double(points.size());
+  return mean;
+}
+
 // The rotation nearest to `m` (by its SVD; a rotation, not a reflection), and the diagonal
 // that makes it one: the closed form both fits share.
 glm::dmat3 nearest_rotation(const Eigen::Matrix3d& m, Eigen::Vector3d* singular_values_signed = nullptr) {
@@ -65,15 +77,12 @@ FrameChange fit_frame_change(const std::vector<Camera>& recorded, const std::vec
   FrameChange change;
   change.rotation = nearest_rotation(sum);
 
-  glm::dvec3 mean_recorded(0.0), mean_refined(0.0);
-  for (std::size_t i = 0; i < n; ++i) {
-    mean_recorded += centre(recorded[i]) / double(n);
-    mean_refined += centre(refined[i]) / double(n);
-  }
+  const std::vector<glm::dvec3> from = centres(recorded), to = centres(refined);
+  const glm::dvec3 mean_recorded = mean_of(from), mean_refined = mean_of(to);
   double along = 0, spread = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const glm::dvec3 turned = change.rotation * (centre(recorded[i]) - mean_recorded);
-    along += glm::dot(turned, centre(refined[i]) - mean_refined);
+    const glm::dvec3 turned = change.rotation * (from[i] - mean_recorded);
+    along += glm::dot(turned, to[i] - mean_refined);
     spread += glm::dot(turned, turned);
   }
   // Coinciding centres (float centres agree to ~1e-7 of their size) carry no scale.
@@ -89,11 +98,7 @@ FrameChange fit_point_similarity(const std::vector<glm::dvec3>& from, const std:
                         std::to_string(to.size()));
   const std::size_t n = from.size();
   if (n < 3) throw ArgumentError("similarity fit: needs at least 3 points");
-  glm::dvec3 mean_from(0.0), mean_to(0.0);
-  for (std::size_t i = 0; i < n; ++i) {
-    mean_from += from[i] / double(n);
-    mean_to += to[i] / double(n);
-  }
+  const glm::dvec3 mean_from = mean_of(from), mean_to = mean_of(to);
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   double variance_from = 0;
   for (std::size_t i = 0; i < n; ++i) {
