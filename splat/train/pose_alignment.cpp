@@ -13,7 +13,7 @@ namespace splat {
 namespace {
 
 constexpr int kRotationValues = 4, kTranslationValues = 3, kValues = kRotationValues + kTranslationValues;
-constexpr FlatAdamSettings kPoseAdam{0.9, 0.999, 1e-8};  // PyTorch's defaults
+constexpr double kPoseAdamBeta2 = 0.999, kPoseAdamEpsilon = 1e-8;  // PyTorch's defaults
 
 }  // namespace
 
@@ -25,10 +25,11 @@ Camera PoseCorrection::applied_to(const Camera& camera) const {
   return corrected;
 }
 
-PoseRefiner::PoseRefiner(std::size_t views, float scene_extent, std::vector<float> pivot_depths)
+PoseRefiner::PoseRefiner(std::size_t views, float scene_extent, std::vector<float> pivot_depths, double adam_beta1)
     : extent_(scene_extent > 0 ? scene_extent : 1.0f),
       pivot_depths_(pivot_depths.empty() ? std::vector<float>(views, 0.0f) : std::move(pivot_depths)),
-      adam_(views, {kRotationValues, kTranslationValues}, kPoseAdam, "pose corrections") {
+      adam_(views, {kRotationValues, kTranslationValues}, {adam_beta1, kPoseAdamBeta2, kPoseAdamEpsilon},
+            "pose corrections") {
   if (pivot_depths_.size() != views) throw ArgumentError("pose corrections: a pivot per view is needed");
   for (std::size_t v = 0; v < views; ++v) adam_.parameters(v)[0] = 1.0f;  // the identity quaternion
 }

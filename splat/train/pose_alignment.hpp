@@ -39,7 +39,8 @@ class PoseRefiner {
   PoseRefiner() = default;
   // `scene_extent` scales the translation's step, so that one learning rate suits scenes of
   // any size. `pivot_depths` (one per view, or none: 0) are the corrections' pivots.
-  PoseRefiner(std::size_t views, float scene_extent, std::vector<float> pivot_depths = {});
+  // `adam_beta1`: Adam's first-moment decay (PyTorch's 0.9 unless given).
+  PoseRefiner(std::size_t views, float scene_extent, std::vector<float> pivot_depths = {}, double adam_beta1 = 0.9);
 
   std::size_t views() const { return adam_.views(); }
   PoseCorrection correction(std::size_t view) const;

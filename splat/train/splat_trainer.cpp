@@ -80,6 +80,8 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
       throw ArgumentError("pose refinement: pose_lr_final_factor must be in (0, 1]");
     if (!(config_.pose_lr_decay_until > 0.0f && config_.pose_lr_decay_until <= 1.0f))
       throw ArgumentError("pose refinement: pose_lr_decay_until must be in (0, 1]");
+    if (!(config_.pose_adam_beta1 >= 0.0f && config_.pose_adam_beta1 < 1.0f))
+      throw ArgumentError("pose refinement: pose_adam_beta1 must be in [0, 1)");
     if (config_.test_pose_alignment_steps < 0) throw ArgumentError("test_pose_alignment_steps must be >= 0");
     scene_centre_ = scene_centre(dataset);
     pose_refiner_ = new_pose_refiner();
@@ -264,7 +266,7 @@ std::vector<Camera> SplatTrainer::training_cameras() const {
 PoseRefiner SplatTrainer::new_pose_refiner() const {
   std::vector<float> pivots;
   for (const DatasetView& view : dataset_.train) pivots.push_back(pose_pivot_depth(view.camera));
-  return PoseRefiner(dataset_.train.size(), scene_extent_, pivots);
+  return PoseRefiner(dataset_.train.size(), scene_extent_, pivots, config_.pose_adam_beta1);
 }
 
 float SplatTrainer::pose_pivot_depth(const Camera& camera) const {

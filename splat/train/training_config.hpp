@@ -84,6 +84,10 @@ struct SplatTrainingConfig {
   // instead of the camera centre: the image's shift and its parallax become separate
   // coordinates (apply_pose_correction), so the weakly seen parallax is not left behind.
   bool pose_pivot_at_scene = true;
+  // Adam's first-moment decay for the corrections. A view's correction is stepped only when
+  // that view is trained on; on good poses its gradient is mostly noise, which a longer
+  // average (closer to 1) cancels, while on bad poses it points the same way every time.
+  float pose_adam_beta1 = 0.9f;
   // 100 rather than 30: on lego400's refined models, 30 steps from the recorded poses left
   // 0.3–0.6 dB that 100 recovered, and 300 add under 0.1 (bench/README.md, issue 15).
   int test_pose_alignment_steps = 100;

@@ -81,5 +81,28 @@ TEST(PoseAlignment, LeavesTheRightPoseAlone) {
   EXPECT_LT(glm::length(aligned.center_in_world() - truth.center_in_world()), 2e-3);
 }
 
+// The refiner's first-moment decay (pose_adam_beta1) reaches its Adam: on a gradient that
+// flips sign every step, as noise around a right pose does, averaging (0.9) moves the
+// correction a tenth as far as none (0), while a gradient that keeps its sign moves it at the
+// rate's pace either way.
+TEST(PoseRefiner, ALongerFirstMomentAverageDampsAFlippingGradient) {
+  const Camera base = test::looking_at_origin(64, 48, 3.0f, 0.8f);
+  const auto path_length = [&](double beta1, bool flipping) {
+    PoseRefiner refiner(1, 1.0f, {}, beta1);
+    double length = 0;
+    for (int step = 0; step < 40; ++step) {
+      CameraPoseGradient gradient;
+      gradient.translation = glm::vec3(flipping && step % 2 ? -1.0f : 1.0f, 0.0f, 0.0f);
+      const glm::vec3 before = refiner.correction(0).translation;
+      refiner.step(0, base, gradient, PoseLearningRates{1e-3f, 1e-3f});
+      length += glm::length(refiner.correction(0).translation - before);
+    }
+    return length;
+  };
+  EXPECT_LT(path_length(0.9, true), 0.25 * path_length(0.0, true));
+  EXPECT_NEAR(path_length(0.9, false), path_length(0.0, false), 0.05 * path_length(0.0, false));
+  EXPECT_NEAR(path_length(0.0, false), 40 * 1e-3, 1e-4);
+}
+
 }  // namespace
 }  // namespace splat
