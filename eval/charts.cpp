@@ -146,6 +146,11 @@ void add_stability_chart(const json& stability, std::vector<Chart>& charts) {
     chart.series.push_back({"collapsed at or below (the background alone + margin)", "lines dt 2 lc 'grey'",
                             {{-0.25, line}, {x - 0.75, line}}, {}});
   }
+  if (x > 0 && stability.contains("failure_psnr")) {
+    const double line = stability["failure_psnr"];
+    chart.series.push_back({"failed below (the absolute floor)", "lines dt 3 lc 'red'",
+                            {{-0.25, line}, {x - 0.75, line}}, {}});
+  }
   charts.push_back(chart);
 }
 

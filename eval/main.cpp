@@ -45,7 +45,8 @@ whose test views are carried into the model's frame by the similarity the traini
 moved by and aligned to their photographs with the model fixed before they are scored),
 each trained S seconds and scored once, into stability.json (PSNR, SSIM, time, model size
 and a verdict per run: diverged, collapsed = no better than the background alone + 1 dB,
-degraded = over 3 dB below the method's all-views run, else ok; for a refined run also its
+failed = below the absolute floor, the higher of the background alone + 3 dB and 20 dB
+(whatever the baseline), degraded = over 3 dB below the method's all-views run, else ok; for a refined run also its
 training cameras' error against the true poses, before and after, once a similarity is
 fitted) and stability/<condition>/<method>/ (a refined run's training_cameras.json there).
 

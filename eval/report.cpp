@@ -147,8 +147,9 @@ void stability_section(std::ostream& html, const fs::path& out, const json& s) {
   html << "<h2>Stability: where the methods fail</h2>\n<p>Dataset <code>" << escaped(s.at("data")) << "</code> ("
        << s.at("train_views") << " training views); every run trained " << seconds(s.at("budget_seconds"))
        << " s and was scored on the unchanged test views. Verdicts:</p>\n<ul>\n";
-  for (const char* verdict : {"diverged", "collapsed", "degraded", "ok"})
-    html << "<li><b>" << verdict << "</b>: " << escaped(s["rules"][verdict]) << "</li>\n";
+  for (const char* verdict : {"diverged", "collapsed", "failed", "degraded", "ok"})
+    if (s["rules"].contains(verdict))  // "failed" is newer than some result files
+      html << "<li><b>" << verdict << "</b>: " << escaped(s["rules"][verdict]) << "</li>\n";
   // The columns: every method that ran, in the order they first appear (the refinement rows
   // run only the splat methods).
   std::vector<std::string> methods;
@@ -206,7 +207,7 @@ fs::path write_report(const fs::path& out) {
           "<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}"
           "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:4px 8px;"
           "text-align:right}th{background:#eee}td:first-child{text-align:left}tr.mark{background:#fff3b0}"
-          ".degraded{background:#ffe0b0}.diverged,.collapsed{background:#ffc0c0}.ok{background:#d8f5d0}"
+          ".degraded{background:#ffe0b0}.diverged,.collapsed,.failed{background:#ffc0c0}.ok{background:#d8f5d0}"
           "img.grid{width:100%;image-rendering:pixelated}figure{margin:1em 0}</style></head><body>\n"
           "<h1>splat-eval report</h1>\n";
   const auto results = read_json_if_present(out / "results.json");

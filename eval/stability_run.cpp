@@ -39,9 +39,10 @@ Condition refined(Condition c) {
   return c;
 }
 
-std::string format(const char* pattern, double a, double b = 0) {
-  char text[120];
-  std::snprintf(text, sizeof(text), pattern, a, b);
+template <class... Numbers>
+std::string format(const char* pattern, Numbers... numbers) {
+  char text[256];
+  std::snprintf(text, sizeof(text), pattern, numbers...);
   return text;
 }
 
@@ -149,10 +150,14 @@ void run_stability(const EvalCommandOptions& options, const Dataset& dataset) {
   j["test_views"] = dataset.test.size();
   j["background_only_psnr"] = background_psnr;
   j["collapse_psnr"] = background_psnr + rules.collapse_margin_db;
+  j["failure_psnr"] = rules.failure_psnr(background_psnr);
   j["rules"] = {
       {"diverged", "training stopped on a non-finite loss or parameter (the iteration is recorded)"},
       {"collapsed", format("test PSNR <= the background alone (%.2f dB) + %g dB", background_psnr,
                            rules.collapse_margin_db)},
+      {"failed", format("test PSNR below the absolute floor of %.2f dB, the higher of the background alone + %g dB "
+                        "and %g dB, whatever the method's baseline (the baseline itself can fail)",
+                        rules.failure_psnr(background_psnr), rules.failure_margin_db, rules.failure_floor_db)},
       {"degraded", format("test PSNR more than %g dB below the same method's baseline", rules.degrade_db)},
       {"ok", "none of the above"}};
   j["conditions"] = table;

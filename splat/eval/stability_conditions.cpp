@@ -1,5 +1,6 @@
 #include "stability_conditions.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 #include <glm/gtx/rotate_vector.hpp>
@@ -82,16 +83,22 @@ const char* verdict_name(Verdict verdict) {
   switch (verdict) {
     case Verdict::kOk: return "ok";
     case Verdict::kDegraded: return "degraded";
+    case Verdict::kFailed: return "failed";
     case Verdict::kDiverged: return "diverged";
     case Verdict::kCollapsed: return "collapsed";
   }
   return "unknown";
 }
 
+double VerdictRules::failure_psnr(double background_psnr) const {
+  return std::max(background_psnr + failure_margin_db, failure_floor_db);
+}
+
 Verdict classify_run(bool diverged, double psnr, double background_psnr,
                      std::optional<double> baseline_psnr, const VerdictRules& rules) {
   if (diverged) return Verdict::kDiverged;
   if (!(psnr > background_psnr + rules.collapse_margin_db)) return Verdict::kCollapsed;
+  if (psnr < rules.failure_psnr(background_psnr)) return Verdict::kFailed;
   if (baseline_psnr && psnr < *baseline_psnr - rules.degrade_db) return Verdict::kDegraded;
   return Verdict::kOk;
 }

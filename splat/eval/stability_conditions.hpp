@@ -27,17 +27,27 @@ Dataset without_point_cloud(const Dataset& dataset);
 // The PSNR of showing only the background on every test view: what an empty model scores.
 double background_only_psnr(const std::vector<DatasetView>& test, const float background[3]);
 
-enum class Verdict { kOk, kDegraded, kDiverged, kCollapsed };
+enum class Verdict { kOk, kDegraded, kFailed, kDiverged, kCollapsed };
 const char* verdict_name(Verdict verdict);
 
 struct VerdictRules {
   double collapse_margin_db = 1.0;  // collapsed: PSNR ≤ background-only PSNR + this
-  double degrade_db = 3.0;          // degraded: PSNR < this method's baseline PSNR − this
+  // failed: PSNR below the absolute floor, the higher of background-only PSNR + this margin
+  // and this many dB, whatever the baseline. A margin alone is no floor on a scene whose
+  // background is far from the one rendered behind the model (depth_range's sky scores
+  // 5.4 dB against black), and on a synthetic scene rendered exactly a model below 20 dB is
+  // visibly wrong everywhere.
+  double failure_margin_db = 3.0;
+  double failure_floor_db = 20.0;
+  double degrade_db = 3.0;  // degraded: PSNR < this method's baseline PSNR − this
+
+  double failure_psnr(double background_psnr) const;  // the floor
 };
 
 // diverged when training stopped on a non-finite value; else collapsed when the model
-// scores no better than the background alone (plus the margin); else degraded when it is
-// `degrade_db` below the same method's baseline run (when there is one); else ok.
+// scores no better than the background alone (plus the margin); else failed when it is below
+// the absolute floor (failure_psnr); else degraded when it is `degrade_db` below the same
+// method's baseline run (when there is one); else ok. A baseline run can fail too.
 Verdict classify_run(bool diverged, double psnr, double background_psnr,
                      std::optional<double> baseline_psnr, const VerdictRules& rules = {});
 

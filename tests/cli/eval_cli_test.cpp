@@ -267,7 +267,9 @@ TEST(EvalCli, StabilityRunsEveryConditionAndGivesEachRunAVerdict) {
   const fs::path out = dir / "out";
   const auto j = nlohmann::json::parse(test::read_file(out / "stability.json"));
   EXPECT_GT(j.at("background_only_psnr").get<double>(), 0.0);
-  for (const char* rule : {"ok", "degraded", "diverged", "collapsed"}) EXPECT_TRUE(j.at("rules").contains(rule)) << rule;
+  EXPECT_GE(j.at("failure_psnr").get<double>(), 20.0);  // the absolute floor, stated
+  EXPECT_GE(j.at("failure_psnr").get<double>(), j.at("background_only_psnr").get<double>() + 3.0);
+  for (const char* rule : {"ok", "degraded", "failed", "diverged", "collapsed"}) EXPECT_TRUE(j.at("rules").contains(rule)) << rule;
   std::vector<std::string> names;
   for (const auto& c : j.at("conditions")) {
     const std::string id = c.at("id");
@@ -292,7 +294,9 @@ TEST(EvalCli, StabilityRunsEveryConditionAndGivesEachRunAVerdict) {
     EXPECT_EQ(c.at("train_views").get<int>(), id == "views_4" ? 4 : 8);
     for (const auto& run : c.at("runs")) {
       const std::string verdict = run.at("verdict");
-      EXPECT_TRUE(verdict == "ok" || verdict == "degraded" || verdict == "collapsed" || verdict == "diverged") << verdict;
+      EXPECT_TRUE(verdict == "ok" || verdict == "degraded" || verdict == "failed" || verdict == "collapsed" ||
+                  verdict == "diverged")
+          << verdict;
       ASSERT_TRUE(run.contains("final")) << run.dump();
       // Stopped by the 0.5 s budget (one step may overrun it), scoring not counted.
       if (run.at("stopped_by") == "time") {

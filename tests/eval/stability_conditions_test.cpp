@@ -144,14 +144,32 @@ TEST(StabilityConditions, BackgroundOnlyPsnrIsTheEmptyModelsScore) {
 }
 
 TEST(StabilityConditions, VerdictRules) {
-  // Background alone scores 15 dB; the method's baseline 30 dB.
+  // Background alone scores 15 dB, so the absolute floor is max(15 + 3, 20) = 20 dB; the
+  // method's baseline 30 dB.
   EXPECT_STREQ(verdict_name(classify_run(true, 29, 15, 30)), "diverged");
   EXPECT_STREQ(verdict_name(classify_run(false, 15.9, 15, 30)), "collapsed");
-  EXPECT_STREQ(verdict_name(classify_run(false, 16.1, 15, 30)), "degraded");
+  EXPECT_STREQ(verdict_name(classify_run(false, 16.1, 15, 30)), "failed");
+  EXPECT_STREQ(verdict_name(classify_run(false, 19.9, 15, 30)), "failed");
+  EXPECT_STREQ(verdict_name(classify_run(false, 20.1, 15, 30)), "degraded");
   EXPECT_STREQ(verdict_name(classify_run(false, 26.9, 15, 30)), "degraded");
   EXPECT_STREQ(verdict_name(classify_run(false, 27.1, 15, 30)), "ok");
-  EXPECT_STREQ(verdict_name(classify_run(false, 20, 15, std::nullopt)), "ok");
+  EXPECT_STREQ(verdict_name(classify_run(false, 20.1, 15, std::nullopt)), "ok");
   EXPECT_STREQ(verdict_name(classify_run(false, std::nan(""), 15, 30)), "collapsed");
+}
+
+// A method that fails outright fails in every condition, its baseline included: the verdict
+// is not only relative to its own baseline.
+TEST(StabilityConditions, AFailedBaselineDoesNotMakeItsConditionsOk) {
+  EXPECT_STREQ(verdict_name(classify_run(false, 17.9, 5.4, std::nullopt)), "failed");  // the baseline
+  EXPECT_STREQ(verdict_name(classify_run(false, 17.5, 5.4, 17.9)), "failed");
+}
+
+TEST(StabilityConditions, TheFloorIsTheHigherOfTheMarginAndTheAbsoluteFloor) {
+  const VerdictRules rules;
+  EXPECT_DOUBLE_EQ(rules.failure_psnr(5.4), 20.0);   // a background far from the scene's
+  EXPECT_DOUBLE_EQ(rules.failure_psnr(25.0), 28.0);  // a background that is most of the image
+  EXPECT_STREQ(verdict_name(classify_run(false, 27.5, 25.0, std::nullopt)), "failed");
+  EXPECT_STREQ(verdict_name(classify_run(false, 28.5, 25.0, std::nullopt)), "ok");
 }
 
 }  // namespace
