@@ -115,8 +115,10 @@ void add_sweep_charts(const json& sweep, std::vector<Chart>& charts) {
 }
 
 void add_stability_chart(const json& stability, std::vector<Chart>& charts) {
+  // The offsets leave 1 dB above and below the points, so that a floor line at the top or
+  // the bottom of the data clears the frame.
   Chart chart{"stability_psnr", "Test PSNR under each condition (diverged runs plotted at 0)", "",
-              "test PSNR (dB)", "set xtics rotate by -30\nset offsets 0.5, 0.5, 0, 0\n", {}};
+              "test PSNR (dB)", "set xtics rotate by -30\nset offsets 0.5, 0.5, 1, 1\n", {}};
   std::string tics;
   std::vector<Series> per_method;  // in the order the runs name them
   int x = 0;
