@@ -22,6 +22,7 @@ class DelegatingAdapter : public TrainerAdapter {
     return {c.iterations, c.max_seconds, c.test_interval, c.checkpoint_interval};
   }
   StepResult step() override { return trainer_.step(); }
+  void set_time_budget_fraction(double fraction) override { trainer_.set_time_budget_fraction(fraction); }
   Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) override {
     return trainer_.evaluate(views, renders);
   }
@@ -39,7 +40,6 @@ class DelegatingAdapter : public TrainerAdapter {
 class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingConfig> {
  public:
   using DelegatingAdapter::DelegatingAdapter;
-  void set_time_budget_fraction(double fraction) override { trainer_.set_time_budget_fraction(fraction); }
   std::string method() const override { return "splat"; }
   std::size_t num_gaussians() const override { return trainer_.model().size(); }
   std::size_t num_params() const override {

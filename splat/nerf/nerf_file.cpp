@@ -66,7 +66,7 @@ nlohmann::json nerf_settings_json(const NerfSettings& s) {
   return {{"coarse", mlp_json(s.coarse)}, {"fine", mlp_json(s.fine)},
           {"coarse_samples", s.coarse_samples}, {"fine_samples", s.fine_samples},
           {"box_min", {s.box.lo.x, s.box.lo.y, s.box.lo.z}},
-          {"box_max", {s.box.hi.x, s.box.hi.y, s.box.hi.z}},
+          {"box_max", {s.box.hi.x, s.box.hi.y, s.box.hi.z}}, {"unbounded", s.unbounded},
           {"near", s.near}, {"occupancy_resolution", s.occupancy_resolution},
           {"occupancy_threshold", s.occupancy_threshold}};
 }
@@ -80,6 +80,7 @@ NerfSettings nerf_settings_from_json(const nlohmann::json& j) {
   const auto lo = j.at("box_min").get<std::vector<float>>(), hi = j.at("box_max").get<std::vector<float>>();
   if (lo.size() != 3 || hi.size() != 3) throw ArgumentError("box_min and box_max need 3 values");
   s.box = {glm::vec3(lo[0], lo[1], lo[2]), glm::vec3(hi[0], hi[1], hi[2])};
+  s.unbounded = j.value("unbounded", false);  // absent in files from before unbounded scenes
   s.near = j.at("near").get<float>();
   s.occupancy_resolution = j.at("occupancy_resolution").get<int>();
   s.occupancy_threshold = j.at("occupancy_threshold").get<float>();

@@ -73,6 +73,14 @@ ConstMap<Scalar> columns(const Scalar* block, int rows, std::size_t first, std::
   return ConstMap<Scalar>(block + std::size_t(rows) * first, rows, Eigen::Index(count));
 }
 
+// Columns [first, first + n) of trunk layer `layer`'s activations in `ctx`.
+template <typename Scalar>
+Map<Scalar> trunk_columns(BasicNerfMlpContext<Scalar>& ctx, const NerfMlpConfig& config, int layer, std::size_t first,
+                          std::size_t n) {
+  return columns(ctx.trunk.data() + std::size_t(layer) * std::size_t(config.width) * ctx.capacity, config.width,
+                 first, n);
+}
+
 // Rows of one chunk's cotangent scratch (backward_chunk lays them out): two ping-pong
 // [width] blocks for the trunk, the colour hidden layer, rgb, density, and γ(x).
 std::size_t cotangent_rows(const NerfMlpConfig& c) {
@@ -165,6 +173,26 @@ void BasicNerfMlp<Scalar>::forward(std::span<const Scalar> positions,
   require(directions.size() == 3 * n, "directions must match positions ([N, 3])");
   require(sigma.size() == n, "sigma must hold N values");
   require(rgb.size() == 3 * n, "rgb must hold 3 N values");
+  for_each_chunk(context, n, [&](std::size_t first, std::size_t count) {
+    forward_density_chunk(context, first, count, positions.data(), sigma.data());
+    forward_color_chunk(context, first, count, directions.data(), rgb.data());
+  });
+}
+
+template <typename Scalar>
+void BasicNerfMlp<Scalar>::forward_density(std::span<const Scalar> positions, std::span<Scalar> sigma,
+                                           Context& context) const {
+  const std::size_t n = positions.size() / 3;
+  require(positions.size() == 3 * n, "positions must hold 3 floats per sample");
+  require(sigma.size() == n, "sigma must hold N values");
+  for_each_chunk(context, n, [&](std::size_t first, std::size_t count) {
+    forward_density_chunk(context, first, count, positions.data(), sigma.data());
+  });
+}
+
+template <typename Scalar>
+template <typename ChunkFunction>
+void BasicNerfMlp<Scalar>::for_each_chunk(Context& context, std::size_t n, const ChunkFunction& chunk) const {
   size_context(context, n);
   context.count = n;
   tbb::parallel_for(
@@ -172,29 +200,19 @@ void BasicNerfMlp<Scalar>::forward(std::span<const Scalar> positions,
       [&](const tbb::blocked_range<std::size_t>& range) {
         for (std::size_t c = range.begin(); c != range.end(); ++c) {
           const std::size_t first = c * kSamplesPerChunk;
-          forward_chunk(context, first, std::min(kSamplesPerChunk, n - first), positions.data(),
-                        directions.data(), sigma.data(), rgb.data());
+          chunk(first, std::min(kSamplesPerChunk, n - first));
         }
       },
       tbb::simple_partitioner());
 }
 
 template <typename Scalar>
-void BasicNerfMlp<Scalar>::forward_chunk(Context& ctx, std::size_t first, std::size_t n,
-                                         const Scalar* positions, const Scalar* directions,
-                                         Scalar* sigma, Scalar* rgb) const {
-  const int ex = encoded_size(config_.position_frequencies);
-  const int ed = encoded_size(config_.direction_frequencies);
-  const int w = config_.width;
+void BasicNerfMlp<Scalar>::forward_density_chunk(Context& ctx, std::size_t first, std::size_t n,
+                                                 const Scalar* positions, Scalar* sigma) const {
   const Scalar* params = parameters_.data();
-  const auto trunk = [&](int i) {
-    return columns(ctx.trunk.data() + std::size_t(i) * w * ctx.capacity, w, first, n);
-  };
-
-  Map<Scalar> gx = columns(ctx.encoded_positions.data(), ex, first, n);  // [E_x, n]
-  Map<Scalar> gd = columns(ctx.encoded_directions.data(), ed, first, n);  // [E_d, n]
-  encode_batch(positions + 3 * first, n, config_.position_frequencies, gx.data());
-  encode_batch(directions + 3 * first, n, config_.direction_frequencies, gd.data());
+  const auto trunk = [&](int i) { return trunk_columns(ctx, config_, i, first, n); };
+  Map<Scalar> gx = columns(ctx.encoded_positions.data(), encoded_size(config_.position_frequencies), first, n);
+  encode_batch(positions + 3 * first, n, config_.position_frequencies, gx.data());  // [E_x, n]
 
   for (int i = 0; i < config_.depth; ++i) {
     const NerfLayerShape& layer = layers_[i];
@@ -217,6 +235,16 @@ void BasicNerfMlp<Scalar>::forward_chunk(Context& ctx, std::size_t first, std::s
   const bool softplus = config_.density_activation == DensityActivation::kSoftplus;
   for (std::size_t j = 0; j < n; ++j)
     sigma[first + j] = softplus ? nerf_detail::softplus(z(0, j)) : nerf_detail::relu(z(0, j));
+}
+
+template <typename Scalar>
+void BasicNerfMlp<Scalar>::forward_color_chunk(Context& ctx, std::size_t first, std::size_t n,
+                                               const Scalar* directions, Scalar* rgb) const {
+  const int w = config_.width;
+  const Scalar* params = parameters_.data();
+  const Map<Scalar> last = trunk_columns(ctx, config_, config_.depth - 1, first, n);
+  Map<Scalar> gd = columns(ctx.encoded_directions.data(), encoded_size(config_.direction_frequencies), first, n);
+  encode_batch(directions + 3 * first, n, config_.direction_frequencies, gd.data());  // [E_d, n]
 
   const NerfLayerShape& feature = layers_[feature_layer()];
   Map<Scalar> f = columns(ctx.feature.data(), w, first, n);  // [width, n]
@@ -288,8 +316,9 @@ void BasicNerfMlp<Scalar>::backward(Context& ctx, std::span<const Scalar> v_sigm
   }
 }
 
-// The chain rule backwards through forward_chunk, one layer's VJP at a time (dense_layer.hpp
-// holds each VJP and its derivation). Parameter gradients go to this slot's own buffer.
+// The chain rule backwards through forward_density_chunk and forward_color_chunk, one layer's
+// VJP at a time (dense_layer.hpp holds each VJP and its derivation). Parameter gradients go
+// to this slot's own buffer.
 template <typename Scalar>
 void BasicNerfMlp<Scalar>::backward_chunk(Context& ctx, std::size_t slot, std::size_t first,
                                           std::size_t n, const Scalar* v_sigma,

@@ -115,6 +115,10 @@ class BasicNerfMlp {
   // Sizes must agree (ArgumentError).
   void forward(std::span<const Scalar> positions, std::span<const Scalar> directions,
                std::span<Scalar> sigma, std::span<Scalar> rgb, Context& context) const;
+  // positions [N, 3] → sigma [N] only (σ does not depend on the direction): the trunk and the
+  // density layer, the same arithmetic as forward's σ, without the colour branch (the
+  // occupancy grid's queries). `context` is scratch; it does not prepare a backward.
+  void forward_density(std::span<const Scalar> positions, std::span<Scalar> sigma, Context& context) const;
 
   // With the context of the last forward and cotangents v_sigma [N], v_rgb [N, 3]:
   // v_parameters [parameter_count()] += ∂L/∂θ, and, unless v_positions is empty (the
@@ -127,9 +131,14 @@ class BasicNerfMlp {
   NerfMlpSample<Scalar> forward_single(const Scalar* position, const Scalar* direction) const;
 
  private:
-  void forward_chunk(Context& context, std::size_t first, std::size_t count,
-                     const Scalar* positions, const Scalar* directions, Scalar* sigma,
-                     Scalar* rgb) const;
+  // Runs chunk(first, count) over [0, n) in fixed-size chunks, in parallel.
+  template <typename ChunkFunction>
+  void for_each_chunk(Context& context, std::size_t n, const ChunkFunction& chunk) const;
+  // The trunk and σ of one chunk; then the colour branch on the trunk's last layer.
+  void forward_density_chunk(Context& context, std::size_t first, std::size_t count, const Scalar* positions,
+                             Scalar* sigma) const;
+  void forward_color_chunk(Context& context, std::size_t first, std::size_t count, const Scalar* directions,
+                           Scalar* rgb) const;
   void backward_chunk(Context& context, std::size_t slot, std::size_t first, std::size_t count,
                       const Scalar* v_sigma, const Scalar* v_rgb, Scalar* v_positions) const;
   void size_context(Context& context, std::size_t count) const;

@@ -7,6 +7,7 @@
 #include "splat/nerf/nerf_mlp.hpp"
 #include "splat/nerf/occupancy_grid.hpp"
 #include "splat/nerf/rays.hpp"
+#include "splat/nerf/scene_space.hpp"
 
 namespace splat {
 
@@ -21,10 +22,13 @@ struct NerfSettings {
   NerfMlpConfig fine{10, 4, 4, 128, 2, 64, DensityActivation::kSoftplus};
   int coarse_samples = 64;  // stratified, per ray, before empty space is dropped
   int fine_samples = 16;    // importance-sampled from the coarse weights
-  AxisAlignedBox box{glm::vec3(-1.5f), glm::vec3(1.5f)};  // rays sample only inside
+  AxisAlignedBox box{glm::vec3(-1.5f), glm::vec3(1.5f)};  // rays sample only inside,
+  bool unbounded = false;  // ... or, when unbounded, also beyond it (scene_space.hpp)
   float near = 0.05f;       // no samples closer than this to the camera
   int occupancy_resolution = 64;
   float occupancy_threshold = 0.01f;
+
+  SceneSpace space() const { return {box, unbounded}; }
 };
 
 struct NerfModel {
@@ -34,7 +38,7 @@ struct NerfModel {
 
   NerfModel(const NerfSettings& s, std::uint32_t seed)
       : settings(s), coarse(s.coarse, seed), fine(s.fine, seed + 1),
-        grid(s.box, s.occupancy_resolution, s.occupancy_threshold) {}
+        grid(s.space().network_box(), s.occupancy_resolution, s.occupancy_threshold) {}
 
   std::size_t parameter_count() const { return coarse.parameter_count() + fine.parameter_count(); }
 };

@@ -14,14 +14,13 @@ namespace {
 constexpr std::size_t kImageBatchRays = 1024;
 
 // Fills the network inputs (sample points and the ray's direction) of a placed pass.
-void fill_inputs(std::span<const Ray> rays, const std::vector<std::uint32_t>& offsets,
-                 const std::vector<float>& t, std::vector<float>& positions,
-                 std::vector<float>& directions) {
+void fill_inputs(const SceneSpace& space, std::span<const Ray> rays, const std::vector<std::uint32_t>& offsets,
+                 const std::vector<float>& t, std::vector<float>& positions, std::vector<float>& directions) {
   positions.resize(3 * t.size());
   directions.resize(3 * t.size());
   for (std::size_t r = 0; r < rays.size(); ++r)
     for (std::uint32_t i = offsets[r]; i < offsets[r + 1]; ++i) {
-      const glm::vec3 p = rays[r].origin + t[i] * rays[r].direction;
+      const glm::vec3 p = space.to_network(rays[r].origin + t[i] * rays[r].direction);
       for (int a = 0; a < 3; ++a) {
         positions[3 * i + a] = p[a];
         directions[3 * i + a] = rays[r].direction[a];
@@ -40,18 +39,17 @@ void NerfRenderer::place_coarse(const NerfModel& model, std::span<const Ray> ray
   pass.delta.clear();
   scratch_t_.resize(std::size_t(n));
   scratch_delta_.resize(std::size_t(n));
+  const SceneSpace space = model.settings.space();
   for (std::size_t r = 0; r < rays.size(); ++r) {
     pass.offsets[r] = std::uint32_t(pass.t.size());
-    const auto bounds = intersect_box(rays[r], model.settings.box, model.settings.near);
-    if (!bounds) continue;
-    stratified_samples(*bounds, jitter, rng, scratch_t_, scratch_delta_);
-    const std::size_t kept = drop_empty_samples(model.grid, rays[r], scratch_t_, scratch_delta_);
+    if (!space.place_samples(rays[r], model.settings.near, jitter, rng, scratch_t_, scratch_delta_)) continue;
+    const std::size_t kept = drop_empty_samples(model.grid, space, rays[r], scratch_t_, scratch_delta_);
     pass.t.insert(pass.t.end(), scratch_t_.begin(), scratch_t_.begin() + std::ptrdiff_t(kept));
     pass.delta.insert(pass.delta.end(), scratch_delta_.begin(),
                       scratch_delta_.begin() + std::ptrdiff_t(kept));
   }
   pass.offsets[rays.size()] = std::uint32_t(pass.t.size());
-  fill_inputs(rays, pass.offsets, pass.t, pass.positions, pass.directions);
+  fill_inputs(model.settings.space(), rays, pass.offsets, pass.t, pass.positions, pass.directions);
 }
 
 void NerfRenderer::place_fine(const NerfModel& model, std::span<const Ray> rays, bool jitter,
@@ -77,7 +75,7 @@ void NerfRenderer::place_fine(const NerfModel& model, std::span<const Ray> rays,
     pass.delta.insert(pass.delta.end(), scratch_delta_.begin(), scratch_delta_.end());
   }
   pass.offsets[rays.size()] = std::uint32_t(pass.t.size());
-  fill_inputs(rays, pass.offsets, pass.t, pass.positions, pass.directions);
+  fill_inputs(model.settings.space(), rays, pass.offsets, pass.t, pass.positions, pass.directions);
 }
 
 void NerfRenderer::evaluate(const NerfMlp& mlp, std::span<const Ray> rays, Pass& pass,

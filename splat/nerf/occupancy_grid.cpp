@@ -87,19 +87,25 @@ void OccupancyGrid::update(const DensityFunction& density, std::mt19937& rng,
       value_[batch_cells_[k]] = std::max(value_[batch_cells_[k]], batch_sigmas_[k]);
   }
 
-  const float threshold = threshold_;
+  // Instant-NGP's rule: the threshold falls to the mean value when the field is faint
+  // everywhere (early in training), so the grid then keeps the cells denser than the rest
+  // rather than emptying and starving every ray of samples. Summed serially in double: the
+  // same mean for any thread count.
+  double sum = 0;
+  for (const float v : value_) sum += v;
+  const float threshold = std::min(threshold_, float(sum / double(count)));
   tbb::parallel_for(std::size_t(0), count,
                     [&](std::size_t c) { occupied_[c] = value_[c] > threshold ? 1 : 0; });
 }
 
-std::size_t drop_empty_samples(const OccupancyGrid& grid, const Ray& ray, std::span<float> t,
-                               std::span<float> delta) {
+std::size_t drop_empty_samples(const OccupancyGrid& grid, const SceneSpace& space, const Ray& ray,
+                               std::span<float> t, std::span<float> delta) {
   if (t.size() != delta.size())
     throw ArgumentError("drop_empty_samples: t and delta differ in size (" +
                         std::to_string(t.size()) + " vs " + std::to_string(delta.size()) + ")");
   std::size_t kept = 0;
   for (std::size_t i = 0; i < t.size(); ++i) {
-    if (!grid.occupied(ray.origin + t[i] * ray.direction)) continue;
+    if (!grid.occupied(space.to_network(ray.origin + t[i] * ray.direction))) continue;
     t[kept] = t[i];
     delta[kept] = delta[i];
     ++kept;

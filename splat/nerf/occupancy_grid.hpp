@@ -3,10 +3,10 @@
 // Instant-NGP, Müller et al. 2022, section 4 "Accelerated ray marching").
 //
 // Each cell keeps a running density value; it is occupied while that value is above a
-// threshold. The update rule (Instant-NGP's, without its mean-density threshold):
+// threshold. The update rule (Instant-NGP's):
 //   every cell:        value ← decay · value
 //   evaluated cells:   value ← max(value, σ(a point in the cell))
-//   every cell:        occupied ← value > threshold
+//   every cell:        occupied ← value > min(threshold, mean of all values)
 // so a cell that stops showing density empties after a few updates (0.95ⁿ), while any one
 // high sample reopens it at once. Before the first update every cell is occupied (the field
 // is untrained; nothing may be skipped yet). Nothing here depends on the thread count: the
@@ -22,6 +22,7 @@
 #include <glm/glm.hpp>
 
 #include "splat/nerf/rays.hpp"
+#include "splat/nerf/scene_space.hpp"
 
 namespace splat {
 
@@ -93,9 +94,10 @@ class OccupancyGrid {
 };
 
 // Keeps, in order, the samples of `ray` whose point origin + t·direction lies in an occupied
-// cell: they are moved to the front of t and delta, each with its own δ (the dropped ones
-// leave gaps, not longer intervals). Returns how many were kept.
-std::size_t drop_empty_samples(const OccupancyGrid& grid, const Ray& ray, std::span<float> t,
-                               std::span<float> delta);
+// cell (the grid spans `space`'s network coordinates): they are moved to the front of t and
+// delta, each with its own δ (the dropped ones leave gaps, not longer intervals). Returns how
+// many were kept.
+std::size_t drop_empty_samples(const OccupancyGrid& grid, const SceneSpace& space, const Ray& ray,
+                               std::span<float> t, std::span<float> delta);
 
 }  // namespace splat

@@ -47,6 +47,8 @@ nlohmann::json to_json(const NerfTrainingConfig& c) {
           {"background", {c.background[0], c.background[1], c.background[2]}},
           {"seed", c.seed}, {"rays_per_batch", c.rays_per_batch},
           {"lr_init", c.lr_init}, {"lr_final", c.lr_final}, {"lr_decay_iterations", c.lr_decay_iterations},
+          {"schedule_follows_budget", c.schedule_follows_budget},
+          {"density_bias_init", c.density_bias_init},
           {"occupancy_warmup", c.occupancy_warmup}, {"occupancy_interval", c.occupancy_interval},
           {"occupancy_cells_per_update", c.occupancy_cells_per_update},
           {"test_interval", c.test_interval}, {"checkpoint_interval", c.checkpoint_interval},
@@ -70,6 +72,8 @@ void from_json(const nlohmann::json& j, NerfTrainingConfig& c) {
       else if (key == "lr_init") c.lr_init = value.get<double>();
       else if (key == "lr_final") c.lr_final = value.get<double>();
       else if (key == "lr_decay_iterations") c.lr_decay_iterations = value.get<int>();
+      else if (key == "schedule_follows_budget") c.schedule_follows_budget = value.get<bool>();
+      else if (key == "density_bias_init") c.density_bias_init = value.get<float>();
       else if (key == "occupancy_warmup") c.occupancy_warmup = value.get<int>();
       else if (key == "occupancy_interval") c.occupancy_interval = value.get<int>();
       else if (key == "occupancy_cells_per_update") c.occupancy_cells_per_update = value.get<std::size_t>();
@@ -86,6 +90,7 @@ void from_json(const nlohmann::json& j, NerfTrainingConfig& c) {
       throw ArgumentError("NeRF setting \"" + key + "\": " + e.what());
     }
   }
+  if (!std::isfinite(c.density_bias_init)) throw ArgumentError("density_bias_init must be finite");
   if (c.rays_per_batch < 1 || c.iterations < 1 || c.occupancy_interval < 1)
     throw ArgumentError("rays_per_batch, iterations and occupancy_interval must be >= 1");
 }
@@ -95,11 +100,17 @@ NerfTrainer::NerfTrainer(const Dataset& dataset, const NerfTrainingConfig& confi
       last_good_model_(model_), coarse_adam_(model_.coarse.parameter_count()),
       fine_adam_(model_.fine.parameter_count()), rng_(config.seed) {
   if (dataset.train.empty()) throw ArgumentError("training needs at least one training view");
+  for (NerfMlp* mlp : {&model_.coarse, &model_.fine}) {
+    const NerfLayerShape& density = mlp->layers()[std::size_t(mlp->density_layer())];
+    mlp->parameters()[density.offset + std::size_t(density.in)] = config_.density_bias_init;
+  }
+  last_good_model_ = model_;
 }
 
 float NerfTrainer::learning_rate() const {
   // Log-linear from lr_init to lr_final over the run, as the paper's exponential decay.
-  const double progress = std::min(1.0, double(iteration_) / double(std::max(1, config_.lr_decay_iterations)));
+  double progress = std::min(1.0, double(iteration_) / double(std::max(1, config_.lr_decay_iterations)));
+  if (config_.schedule_follows_budget) progress = std::max(progress, std::min(1.0, time_budget_fraction_));
   return float(std::exp(std::log(config_.lr_init) * (1 - progress) + std::log(config_.lr_final) * progress));
 }
 
@@ -110,18 +121,12 @@ void NerfTrainer::update_occupancy() {
                                                      std::span<float> sigmas) {
     const std::size_t n = points.size();
     density_positions_.resize(3 * n);
-    density_directions_.assign(3 * n, 0.0f);
     density_sigma_.resize(n);
-    density_rgb_.resize(3 * n);
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < n; ++i)
       for (int a = 0; a < 3; ++a) density_positions_[3 * i + a] = points[i][a];
-      density_directions_[3 * i + 2] = 1.0f;  // σ does not depend on the direction
-    }
-    model_.coarse.forward(density_positions_, density_directions_, density_sigma_, density_rgb_,
-                          density_context_);
-    density_max_ = density_sigma_;
-    model_.fine.forward(density_positions_, density_directions_, density_sigma_, density_rgb_,
-                        density_context_);
+    density_max_.resize(n);
+    model_.coarse.forward_density(density_positions_, density_max_, density_context_);
+    model_.fine.forward_density(density_positions_, density_sigma_, density_context_);
     for (std::size_t i = 0; i < n; ++i) sigmas[i] = std::max(density_max_[i], density_sigma_[i]);
   };
   OccupancyUpdateOptions options;

@@ -182,6 +182,25 @@ TEST(NerfMlp, ForwardMatchesPlainLoopReference) {
   check_forward_against_reference<float>(medium, 1e-5);
 }
 
+// The occupancy grid's density-only queries give exactly forward's σ (the same arithmetic,
+// without the colour branch), for a batch spanning several chunks.
+TEST(NerfMlp, ForwardDensityEqualsForwardSigmaBitwise) {
+  for (const DensityActivation activation : {DensityActivation::kSoftplus, DensityActivation::kRelu}) {
+    const NerfMlp mlp = perturbed_mlp<float>(small_config(activation), 31);
+    std::vector<float> positions, directions;
+    random_inputs<float>(700, 32, positions, directions);
+    std::vector<float> sigma(700), rgb(3 * 700), sigma_only(700, -1.0f);
+    NerfMlpContext context, density_context;
+    mlp.forward(positions, directions, sigma, rgb, context);
+    mlp.forward_density(positions, sigma_only, density_context);
+    EXPECT_EQ(sigma, sigma_only);
+  }
+  const NerfMlp mlp(small_config(), 1);
+  std::vector<float> three(3), two(2);
+  NerfMlpContext context;
+  EXPECT_THROW(mlp.forward_density(three, two, context), ArgumentError);
+}
+
 // Every parameter's gradient and the position gradient of a 5-sample batch against central
 // differences, with random cotangents (and the random-direction dot product test).
 void check_gradients(const NerfMlpConfig& config, unsigned seed, std::size_t count = 5) {

@@ -94,7 +94,7 @@ TEST(NerfOccupancy, DropsSamplesInEmptyCellsAndKeepsTheirLengths) {
   std::vector<float> t(n), delta(n);
   stratified_samples(*bounds, true, rng, t, delta);
   const std::vector<float> t0 = t, delta0 = delta;
-  const std::size_t kept = drop_empty_samples(grid, ray, t, delta);
+  const std::size_t kept = drop_empty_samples(grid, SceneSpace{kBox}, ray, t, delta);
   // The ray crosses the sphere through its centre: a chord of 1 out of 2 in the box, so
   // about half the samples stay (give or take the cells at the sphere's edge).
   EXPECT_GT(kept, 54u);
@@ -111,6 +111,24 @@ TEST(NerfOccupancy, DropsSamplesInEmptyCellsAndKeepsTheirLengths) {
   EXPECT_EQ(k, kept);
   for (std::size_t i = 0; i < kept; ++i)
     EXPECT_LT(glm::length(ray.origin + t[i] * ray.direction - kSphereCentre), kSphereRadius + 0.1f);
+}
+
+// A field fainter than the threshold everywhere (early training) does not empty the grid:
+// the threshold falls to the mean value, so the denser cells stay.
+TEST(NerfOccupancy, FaintFieldKeepsItsDenserCells) {
+  OccupancyGrid grid(kBox, 32, 0.01f);
+  std::mt19937 rng(5);
+  grid.update([](std::span<const glm::vec3> points, std::span<float> sigmas) {
+    for (std::size_t i = 0; i < points.size(); ++i)
+      sigmas[i] = glm::length(points[i] - kSphereCentre) < kSphereRadius ? 0.005f : 0.001f;
+  }, rng, {.decay = 0.95f, .jitter = false, .cells = 0});
+  std::size_t inside = 0;
+  for (std::size_t c = 0; c < grid.cell_count(); ++c) {
+    const bool centre_inside = glm::length(grid.cell_center(c) - kSphereCentre) < kSphereRadius;
+    EXPECT_EQ(grid.cell_occupied(c), centre_inside) << c;
+    inside += centre_inside;
+  }
+  EXPECT_GT(inside, 1000u);
 }
 
 TEST(NerfOccupancy, ValuesDecayUntilTheCellEmpties) {
@@ -162,7 +180,7 @@ TEST(NerfOccupancy, RejectsBadArguments) {
                ArgumentError);
   const OccupancyGrid grid(kBox, 8);
   std::vector<float> t(3), delta(2);
-  EXPECT_THROW(drop_empty_samples(grid, Ray{glm::vec3(0.0f), glm::vec3(1, 0, 0)}, t, delta),
+  EXPECT_THROW(drop_empty_samples(grid, SceneSpace{kBox}, Ray{glm::vec3(0.0f), glm::vec3(1, 0, 0)}, t, delta),
                ArgumentError);
 }
 

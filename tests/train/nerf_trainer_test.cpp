@@ -1,0 +1,75 @@
+// The NeRF trainer's start and schedule: an untrained field that is nearly transparent (no
+// fog to clear, the cause of the collapse on thin structures), and a learning rate that
+// decays over a time budget when there is one.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "splat/core/error.hpp"
+#include "splat/data/orbit_cameras.hpp"
+#include "splat/train/nerf_trainer.hpp"
+
+namespace splat {
+namespace {
+
+// Four white 24 × 24 views around the origin (the content does not matter here).
+Dataset small_dataset() {
+  Dataset dataset;
+  OrbitRig rig;
+  rig.count = 4;
+  rig.width = rig.height = 24;
+  for (const Camera& camera : orbit_cameras(rig)) dataset.train.push_back({"v", camera, Image(24, 24, 3, 1.0f)});
+  dataset.scene_extent = 4.4f;
+  return dataset;
+}
+
+NerfTrainingConfig small_config(float density_bias) {
+  NerfTrainingConfig config;
+  config.model.fine = config.model.coarse;
+  config.density_bias_init = density_bias;
+  config.background[0] = config.background[1] = config.background[2] = 0.0f;  // black: fog shows
+  return config;
+}
+
+// Mean brightness of a view rendered by an untrained field over a black background: the
+// field's own opacity and colour.
+double untrained_brightness(float density_bias) {
+  const Dataset dataset = small_dataset();
+  NerfTrainer trainer(dataset, small_config(density_bias));
+  const Image image = trainer.render(dataset.train[0].camera);
+  double sum = 0;
+  for (const float v : image.data) sum += v;
+  return sum / double(image.data.size());
+}
+
+TEST(NerfTrainer, UntrainedFieldIsNearlyTransparent) {
+  // Glorot weights with a zero density bias: a grey fog over much of the view.
+  EXPECT_GT(untrained_brightness(0.0f), 0.2);
+  // The default starts at σ ≈ 0.05 per unit: a ray through the ±1.5 box keeps ≥ 80 % of the
+  // background.
+  EXPECT_EQ(NerfTrainingConfig{}.density_bias_init, -3.0f);
+  EXPECT_LT(untrained_brightness(-3.0f), 0.1);
+}
+
+TEST(NerfTrainer, LearningRateDecaysOverTheTimeBudget) {
+  const Dataset dataset = small_dataset();
+  NerfTrainingConfig config = small_config(-3.0f);
+  NerfTrainer trainer(dataset, config);
+  EXPECT_FLOAT_EQ(trainer.learning_rate(), float(config.lr_init));
+  trainer.set_time_budget_fraction(0.5);  // halfway: the geometric mean of the two rates
+  EXPECT_NEAR(trainer.learning_rate(), std::sqrt(config.lr_init * config.lr_final), 1e-9);
+  trainer.set_time_budget_fraction(1.0);
+  EXPECT_NEAR(trainer.learning_rate(), config.lr_final, 1e-9);
+  config.schedule_follows_budget = false;
+  NerfTrainer by_iterations(dataset, config);
+  by_iterations.set_time_budget_fraction(1.0);
+  EXPECT_FLOAT_EQ(by_iterations.learning_rate(), float(config.lr_init));
+}
+
+TEST(NerfTrainer, RejectsANonFiniteDensityBias) {
+  NerfTrainingConfig config;
+  EXPECT_THROW(from_json(nlohmann::json{{"density_bias_init", nullptr}}, config), ArgumentError);
+}
+
+}  // namespace
+}  // namespace splat
