@@ -14,8 +14,8 @@ void run_comparison(const EvalCommandOptions& options, const Dataset& dataset) {
   namespace fs = std::filesystem;
   const std::vector<std::string> methods = methods_to_run(options);
   const double score_every = options.eval_every.value_or(options.max_seconds / 10);
-  EvalProgress progress(options.quiet, int(methods.size()), options.max_seconds,
-                        int(options.max_seconds / score_every) + 1);
+  EvalProgress progress(options.quiet, int(methods.size()), options.max_seconds, kScoreShare,
+                        int(dataset.test.size()));
   progress.message("comparison on " + options.data.string() + " (" + std::to_string(dataset.train.size()) +
                    " train, " + std::to_string(dataset.test.size()) + " test views), budget " +
                    format_duration(options.max_seconds) + " per method");

@@ -9,19 +9,28 @@ namespace splat::cli {
 
 namespace {
 constexpr double kIntervalSeconds = 5.0;
+// Before any score is measured, a final score is guessed at this share of a budget.
+constexpr double kFinalScoreGuessShare = 0.1;
 }
 
-EvalProgress::EvalProgress(bool quiet, int runs, double budget, int scores_per_run)
-    : quiet_(quiet), runs_(runs), budget_(budget), scores_per_run_(scores_per_run) {}
+EvalProgress::EvalProgress(bool quiet, int runs, double budget, double score_share, int test_views)
+    : quiet_(quiet), runs_(runs), budget_(budget), score_share_(score_share), test_views_(test_views) {}
 
 void EvalProgress::start_run(int index, const std::string& label) {
   run_ = index;
   label_ = label;
 }
 
-void EvalProgress::score_done(double seconds) {
+void EvalProgress::score_done(double seconds, int views) {
   score_seconds_ += seconds;
-  ++scores_;
+  scored_views_ += views;
+}
+
+double EvalProgress::eta_seconds(double train_seconds) const {
+  const double training_left = std::max(0.0, budget_ * (runs_ - run_) - std::min(train_seconds, budget_));
+  const double final_score = scored_views_ > 0 ? score_seconds_ / scored_views_ * test_views_
+                                               : kFinalScoreGuessShare * budget_;
+  return training_left * (1 + score_share_) + final_score * (runs_ - run_);
 }
 
 void EvalProgress::report(const std::string& stage, double train_seconds, int iteration, bool force) {
@@ -30,12 +39,9 @@ void EvalProgress::report(const std::string& stage, double train_seconds, int it
     return;
   printed_ = true;
   last_ = Clock::now();
-  const double training_left = budget_ * (runs_ - run_) - std::min(train_seconds, budget_);
-  const double per_score = scores_ > 0 ? score_seconds_ / scores_ : 0;
-  const int scores_left = std::max(0, scores_per_run_ * runs_ - scores_);
-  const double eta = std::max(0.0, training_left) + per_score * scores_left;
   std::printf("[%s %d/%d] %s: %.1f of %.1f s trained, iteration %d, ETA %s\n", label_.c_str(), run_ + 1,
-              runs_, stage.c_str(), train_seconds, budget_, iteration, format_duration(eta).c_str());
+              runs_, stage.c_str(), train_seconds, budget_, iteration,
+              format_duration(eta_seconds(train_seconds)).c_str());
   std::fflush(stdout);
 }
 

@@ -11,7 +11,7 @@ namespace splat::cli {
 void run_gaussian_sweep(const EvalCommandOptions& options, const Dataset& dataset) {
   const std::vector<std::size_t>& budgets = options.sweep_gaussians;
   const std::string method = methods_to_run(options).front();  // one splat method
-  EvalProgress progress(options.quiet, int(budgets.size()), options.max_seconds, 1);
+  EvalProgress progress(options.quiet, int(budgets.size()), options.max_seconds, 0, int(dataset.test.size()));
   progress.message("Gaussian budget sweep on " + options.data.string() + ": " + std::to_string(budgets.size()) +
                    " " + method + " runs of " + format_duration(options.max_seconds));
   nlohmann::json runs = nlohmann::json::array();

@@ -59,9 +59,11 @@ class MethodObserver final : public TrainingObserver {
                        {"num_gaussians", trainer_.num_gaussians()},
                        {"model_bytes", model_file_bytes(trainer_, dir_)}});
     // The ETA's time per score: the evaluation and the size probe (a whole model file).
-    progress_.score_done(evaluate_seconds + seconds_since(measure_start));
+    progress_.score_done(evaluate_seconds + seconds_since(measure_start), e.views);
+    last_evaluation = e;
   }
   nlohmann::json history = nlohmann::json::array();
+  Evaluation last_evaluation;
 
  private:
   const TrainerAdapter& trainer_;
@@ -98,7 +100,9 @@ MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, Ev
   loop.max_seconds = request.budget_seconds;
   loop.budget_clock = BudgetClock::kTraining;  // scoring does not eat into the budget
   loop.score_every_seconds = request.score_every.value_or(0);
+  loop.score_share = kScoreShare;
   loop.score_at_end = true;  // the final scores are the last history entry's
+  loop.keep_final_renders = request.render_test_views;  // the test renders are the final score's
   loop.score_views = &dataset.test;
   progress.report("training", 0, 0, true);
   const TrainingLoopResult result = run_training_loop(*trainer, loop, observer);
@@ -114,19 +118,13 @@ MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, Ev
   }
   const double trained_seconds = result.train_seconds;
 
-  // One view at a time so each is timed alone: the render only, not the scoring. The final
-  // scores are the last history entry's: the same model, the same images.
-  std::vector<double> render_ms;
+  // The test renders are the final score's images, each view's render timed alone.
+  const std::vector<double>& render_ms = observer.last_evaluation.view_render_ms;
   if (request.render_test_views) {
-    progress.report("rendering", trained_seconds, trainer->iteration(), true);
+    run.renders = result.final_renders;
     fs::create_directories(request.out_dir / "test");
-    for (const DatasetView& view : dataset.test) {
-      const Camera camera = trainer->scoring_camera(view);
-      const auto render_start = Clock::now();
-      run.renders.push_back(trainer->render(camera));
-      render_ms.push_back(1000.0 * seconds_since(render_start));
-      write_png(run.renders.back(), request.out_dir / "test" / (view.name + ".png"));
-    }
+    for (std::size_t v = 0; v < run.renders.size(); ++v)
+      write_png(run.renders[v], request.out_dir / "test" / (dataset.test[v].name + ".png"));
   }
   const fs::path model_file = request.out_dir / trainer->model_file_name();
   trainer->write_model(model_file);
@@ -142,6 +140,10 @@ MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, Ev
   j["iterations"] = trainer->iteration();
   j["train_seconds"] = trained_seconds;
   j["eval_seconds"] = result.score_seconds;
+  j["scoring"] = {{"share_limit", kScoreShare},
+                  {"share", result.score_seconds / std::max(1e-9, trained_seconds)},
+                  {"final_score_seconds", result.final_score_seconds},
+                  {"skipped_scores", result.skipped_scores}};
   j["stopped_by"] = stop_reason_name(result.stopped_by);
   if (request.render_test_views) j["render_ms_per_view_median"] = median(render_ms);
   j["config"] = trainer->config_json();

@@ -18,6 +18,10 @@
 
 namespace splat::cli {
 
+// The share of a run's training time that its scores during training may take (the final
+// score is extra): splat-eval's curves are scored no more often than that allows.
+constexpr double kScoreShare = 0.1;
+
 struct MethodRunRequest {
   std::string method;  // "splat" | "splat-official" | "nerf" (eval_methods.hpp)
   SplatTrainingConfig splat_config;
@@ -26,7 +30,7 @@ struct MethodRunRequest {
   std::optional<double> score_every;  // none: score once, at the end
   std::filesystem::path out_root;     // splat-eval's --out: file names in the JSON are relative to it
   std::filesystem::path out_dir;      // receives the model (and test/<view>.png with renders)
-  bool render_test_views = false;     // render each test view alone, timed, kept and written
+  bool render_test_views = false;     // keep and write the final score's renders (each timed alone)
   // The training poses before a stability condition perturbed them: under pose refinement,
   // how far the training cameras are from these, before and after training, is measured.
   const std::vector<Camera>* true_training_cameras = nullptr;

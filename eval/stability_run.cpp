@@ -99,7 +99,7 @@ void run_stability(const EvalCommandOptions& options, const Dataset& dataset) {
       c.skipped = "pose refinement is the splat methods' alone, and none of them runs";
   int runs = 0;
   for (const Condition& c : conditions) runs += c.skipped.empty() ? int(methods_for(c, methods).size()) : 0;
-  EvalProgress progress(options.quiet, runs, options.max_seconds, 1);
+  EvalProgress progress(options.quiet, runs, options.max_seconds, 0, int(dataset.test.size()));
   std::string method_list;
   for (const std::string& method : methods) method_list += (method_list.empty() ? "" : ", ") + method;
   progress.message("stability on " + options.data.string() + ": " + std::to_string(runs) + " runs of " +

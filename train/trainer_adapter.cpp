@@ -26,7 +26,6 @@ class DelegatingAdapter : public TrainerAdapter {
   Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) override {
     return trainer_.evaluate(views, renders);
   }
-  Image render(const Camera& camera) override { return trainer_.render(camera); }
   int iteration() const override { return trainer_.iteration(); }
   void check_parameters_finite() const override { trainer_.check_parameters_finite(); }
   void save_checkpoint(const std::filesystem::path& file) const override { trainer_.save_checkpoint(file); }
@@ -52,7 +51,6 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
   void write_last_good_model(const std::filesystem::path& file) const override {
     write_ply(trainer_.last_good_model(), file);
   }
-  Camera scoring_camera(const DatasetView& view) const override { return trainer_.scoring_camera(view); }
   std::vector<Camera> refined_training_cameras() const override {
     return trainer_.config().refine_poses ? trainer_.training_cameras() : std::vector<Camera>{};
   }

@@ -27,11 +27,8 @@ class TrainerAdapter {
   virtual RunSchedule schedule() const = 0;
   virtual StepResult step() = 0;
   // The fraction of the time budget spent, before each step of a run that has one.
-  virtual void set_time_budget_fraction(double /*fraction*/) {}
+  virtual void set_time_budget_fraction(double fraction) = 0;
   virtual Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) = 0;
-  virtual Image render(const Camera& camera) = 0;  // clamped, as evaluate() scores it
-  // The camera evaluate() renders a test view with (aligned first under pose refinement).
-  virtual Camera scoring_camera(const DatasetView& view) const { return view.camera; }
   // The training views' cameras as trained, when the method corrects them (pose refinement);
   // otherwise none.
   virtual std::vector<Camera> refined_training_cameras() const { return {}; }

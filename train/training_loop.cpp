@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 namespace splat::cli {
 
@@ -38,9 +39,13 @@ class Loop {
       return result;
     }
     if (options_.score_at_end && result.stopped_by != StopReason::kInterrupt &&
-        last_scored_ != trainer_.iteration())
-      score();
+        (options_.keep_final_renders || last_scored_ != trainer_.iteration())) {
+      const double before = state_.score_seconds;
+      score(*options_.score_views, options_.keep_final_renders ? &result.final_renders : nullptr);
+      result.final_score_seconds = state_.score_seconds - before;
+    }
     result.score_seconds = state_.score_seconds;
+    result.skipped_scores = skipped_scores_;
     return result;
   }
 
@@ -54,7 +59,7 @@ class Loop {
       if (options_.max_seconds > 0 && spent >= options_.max_seconds) return StopReason::kTime;
       if (options_.max_seconds > 0) trainer_.set_time_budget_fraction(spent / options_.max_seconds);
       if (score_due(s)) {
-        score();
+        scheduled_score(s);
         // One score however far behind the grid fell (a slow step, a long score).
         while (options_.score_every_seconds > 0 && next_score_at_ <= now().train_seconds)
           next_score_at_ += options_.score_every_seconds;
@@ -71,15 +76,41 @@ class Loop {
     return options_.score_every_seconds > 0 && s.train_seconds >= next_score_at_;
   }
 
-  void score() {
+  void score(const std::vector<DatasetView>& views, std::vector<Image>* renders,
+             const std::optional<Evaluation>& probe = std::nullopt, double probe_seconds = 0) {
     const LoopState at = now();
     const double start = clock_();
     observer_.on_score_start(at);
     const double evaluate_start = clock_();
-    const Evaluation evaluation = trainer_.evaluate(*options_.score_views, nullptr);
-    observer_.on_score(evaluation, clock_() - evaluate_start, at);
+    Evaluation evaluation = trainer_.evaluate(views, renders);
+    if (probe) evaluation = merged(*probe, evaluation);
+    const double evaluate_seconds = clock_() - evaluate_start + probe_seconds;
+    seconds_per_view_ = evaluate_seconds / double(std::max(1, evaluation.views));
+    observer_.on_score(evaluation, evaluate_seconds, at);
     state_.score_seconds += clock_() - start;
     last_scored_ = at.iteration;
+  }
+
+  // A time-scheduled score, within the score share (score_share's comment).
+  void scheduled_score(const LoopState& s) {
+    const std::vector<DatasetView>& views = *options_.score_views;
+    if (options_.score_share <= 0 || views.empty()) return score(views, nullptr);
+    const double start = clock_();
+    std::optional<Evaluation> probe;
+    if (seconds_per_view_ == 0) {
+      probe = trainer_.evaluate({views.front()}, nullptr);
+      seconds_per_view_ = clock_() - start;
+    }
+    const double probe_seconds = clock_() - start;
+    const double rest = seconds_per_view_ * double(views.size() - (probe ? 1 : 0));
+    if (state_.score_seconds + probe_seconds + rest > options_.score_share * s.train_seconds) {
+      state_.score_seconds += probe_seconds;  // what the probe cost is scoring time too
+      ++skipped_scores_;
+      return;
+    }
+    state_.score_seconds += probe_seconds;
+    if (probe) return score(std::vector<DatasetView>(views.begin() + 1, views.end()), nullptr, probe, probe_seconds);
+    score(views, nullptr);
   }
 
   const LoopState& now() {
@@ -97,6 +128,8 @@ class Loop {
   LoopState state_;
   double next_score_at_ = 0;
   int last_scored_ = -1;
+  double seconds_per_view_ = 0;  // of the last score: the next one's estimate
+  int skipped_scores_ = 0;
 };
 
 }  // namespace

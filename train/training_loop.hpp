@@ -32,6 +32,14 @@ struct TrainingLoopOptions {
   double score_every_seconds = 0;
   // once more when training stopped by a limit, unless the last score saw the final model.
   bool score_at_end = false;
+  // At most this share of the training time so far goes to the time-scheduled scores (0: no
+  // limit): a due score is skipped when it would take the scoring time past that share. Its
+  // cost is estimated from the last score's time per view or, before any, from the first
+  // view scored alone (kept as part of the score when it goes ahead). The final score is
+  // not limited.
+  double score_share = 0;
+  // The final score (score_at_end) always runs, and keeps its renders (TrainingLoopResult).
+  bool keep_final_renders = false;
   const std::vector<DatasetView>* score_views = nullptr;  // what a score evaluates
 
   double resumed_seconds = 0;  // training time before this loop (a resumed run)
@@ -76,6 +84,9 @@ struct TrainingLoopResult {
   std::optional<Divergence> diverged;  // with kDiverged
   double train_seconds = 0;            // when training stopped (a final score not counted)
   double score_seconds = 0;            // all scoring, the final score included
+  double final_score_seconds = 0;      // the final score's own
+  int skipped_scores = 0;              // time-scheduled scores the score share left out
+  std::vector<Image> final_renders;    // [score view], with keep_final_renders
 };
 
 // Steps `trainer` until a limit of `options` stops it, then checks every parameter finite; a

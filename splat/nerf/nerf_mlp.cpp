@@ -28,10 +28,10 @@ using nerf_detail::MatrixRef;
 // not depend on the thread count; 256 columns of 256 floats is 256 KB per activation
 // block, so a layer's input and output stay in a core's L2.
 constexpr std::size_t kSamplesPerChunk = 256;
-// Chunks whose parameter gradients are in flight at once, each in its own buffer
-// (parameter_count floats: 2.4 MB for the defaults). A fixed number, not one per thread,
-// so the order of the additions is the same for any thread count.
-constexpr std::size_t kChunksPerGroup = 8;
+// Parameter-gradient buffers of a backward pass, each summing a fixed share of the chunks
+// (parameter_count floats each: 2.4 MB for the defaults). A fixed number, not one per
+// thread, so the order of the additions is the same for any thread count.
+constexpr std::size_t kGradientSlots = 8;
 // Parameters per task when the partial gradients are added together.
 constexpr std::size_t kParametersPerReduceTask = 16384;
 
@@ -282,38 +282,39 @@ void BasicNerfMlp<Scalar>::backward(Context& ctx, std::span<const Scalar> v_sigm
           "v_positions must be empty or hold 3 N values");
 
   const std::size_t p = parameter_count();
-  if (ctx.partial_gradients.size() < kChunksPerGroup * p) {
-    ctx.partial_gradients.resize(kChunksPerGroup * p);
-    ctx.backward_scratch.resize(kChunksPerGroup * kSamplesPerChunk * cotangent_rows(config_));
+  if (ctx.partial_gradients.size() < kGradientSlots * p) {
+    ctx.partial_gradients.resize(kGradientSlots * p);
+    ctx.backward_scratch.resize(kGradientSlots * kSamplesPerChunk * cotangent_rows(config_));
   }
   Scalar* v_x = v_positions.empty() ? nullptr : v_positions.data();
 
-  const std::size_t chunks = chunk_count(n);
-  for (std::size_t group = 0; group < chunks; group += kChunksPerGroup) {
-    const std::size_t group_end = std::min(chunks, group + kChunksPerGroup);
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(group, group_end, 1),
-        [&](const tbb::blocked_range<std::size_t>& range) {
-          for (std::size_t c = range.begin(); c != range.end(); ++c) {
+  // Slot s takes chunks s, s + S, s + 2S, … in that order, summing their gradients into its
+  // own buffer; the slots are then added in slot order. The assignment and both orders are
+  // fixed, so the sums are the same for any thread count; each buffer is zeroed once per call,
+  // not once per chunk.
+  const std::size_t chunks = chunk_count(n), slots = std::min(chunks, kGradientSlots);
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, slots, 1),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t s = range.begin(); s != range.end(); ++s) {
+          std::fill_n(ctx.partial_gradients.data() + s * p, p, Scalar(0));
+          for (std::size_t c = s; c < chunks; c += slots) {
             const std::size_t first = c * kSamplesPerChunk;
-            backward_chunk(ctx, c - group, first, std::min(kSamplesPerChunk, n - first),
-                           v_sigma.data(), v_rgb.data(), v_x);
+            backward_chunk(ctx, s, first, std::min(kSamplesPerChunk, n - first), v_sigma.data(), v_rgb.data(), v_x);
           }
-        },
-        tbb::simple_partitioner());
-    // Each element gets v + g₀ + g₁ + … in chunk order, whichever thread adds it.
-    const std::size_t slots = group_end - group;
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, p, kParametersPerReduceTask),
-        [&](const tbb::blocked_range<std::size_t>& range) {
-          Scalar* __restrict out = v_parameters.data();
-          for (std::size_t s = 0; s < slots; ++s) {
-            const Scalar* __restrict partial = ctx.partial_gradients.data() + s * p;
-            for (std::size_t k = range.begin(); k != range.end(); ++k) out[k] += partial[k];
-          }
-        },
-        tbb::simple_partitioner());
-  }
+        }
+      },
+      tbb::simple_partitioner());
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, p, kParametersPerReduceTask),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        Scalar* __restrict out = v_parameters.data();
+        for (std::size_t s = 0; s < slots; ++s) {
+          const Scalar* __restrict partial = ctx.partial_gradients.data() + s * p;
+          for (std::size_t k = range.begin(); k != range.end(); ++k) out[k] += partial[k];
+        }
+      },
+      tbb::simple_partitioner());
 }
 
 // The chain rule backwards through forward_density_chunk and forward_color_chunk, one layer's
@@ -329,8 +330,7 @@ void BasicNerfMlp<Scalar>::backward_chunk(Context& ctx, std::size_t slot, std::s
   const int cw = config_.color_width;
   const std::size_t p = parameter_count();
   const Scalar* params = parameters_.data();
-  Scalar* grad = ctx.partial_gradients.data() + slot * p;
-  std::fill(grad, grad + p, Scalar(0));
+  Scalar* grad = ctx.partial_gradients.data() + slot * p;  // accumulates this slot's chunks
   const Context& saved = ctx;  // forward's activations: read only
   const auto trunk = [&](int i) {
     return columns(saved.trunk.data() + std::size_t(i) * w * saved.capacity, w, first, n);

@@ -24,9 +24,9 @@
 //
 // Batches: forward and backward split the N samples into fixed-size chunks processed in
 // parallel (oneTBB); inside a chunk each layer is one Eigen GEMM on column-major [features,
-// chunk] activations (Eigen single-threaded: no OpenMP). Parameter gradients are summed per
-// chunk into their own buffers and added in chunk order, so the results are bit-identical
-// for any thread count.
+// chunk] activations (Eigen single-threaded: no OpenMP). Parameter gradients are summed into
+// a fixed number of buffers, each taking a fixed share of the chunks in order, and the
+// buffers are added in order, so the results are bit-identical for any thread count.
 //
 // Templated on the scalar so the gradient tests run the very same code in double;
 // instantiated for float (NerfMlp, training) and double (tests).

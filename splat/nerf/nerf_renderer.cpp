@@ -65,7 +65,11 @@ void NerfRenderer::place_fine(const NerfModel& model, std::span<const Ray> rays,
     pass.offsets[r] = std::uint32_t(pass.t.size());
     const std::uint32_t begin = coarse.offsets[r], end = coarse.offsets[r + 1];
     if (begin == end) continue;  // nothing in the box here: the background
-    const std::size_t n = end - begin;
+    // The fine pass refines only what the coarse one saw: up to and including the sample
+    // where the coarse ray stopped (transmittance below the compositor's floor). The samples
+    // behind a surface, most of a solid object's, carry no weight and would cost the fine
+    // network as much as the visible ones.
+    const std::size_t n = std::min<std::size_t>(end - begin, coarse.render.blended_count[r] + 1);
     const std::span<const float> ct(&coarse.t[begin], n), cd(&coarse.delta[begin], n),
         cw(&coarse.render.weights[begin], n);
     scratch_t_.resize(n + n_fine);

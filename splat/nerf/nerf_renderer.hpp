@@ -5,8 +5,9 @@
 // Per ray: stratified coarse samples between the box entry and exit, those in empty
 // occupancy cells dropped; the coarse network and the shared compositor give the coarse
 // colour and weights; importance samples drawn from those weights, merged with the coarse
-// positions, go through the fine network for the fine colour. A ray that misses the box, or
-// whose samples all fall in empty cells, shows the background.
+// positions, go through the fine network for the fine colour; the fine pass stops where the
+// coarse ray became opaque. A ray that misses the box, or whose samples all fall in empty
+// cells, shows the background.
 //
 // Sample placement is serial in ray order (from the caller's RNG when jittered), the
 // networks and the compositing are parallel and deterministic: the same seed gives the same

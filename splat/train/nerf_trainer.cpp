@@ -9,7 +9,6 @@
 
 #include "splat/core/atomic_file.hpp"
 #include "splat/core/random.hpp"
-#include "splat/eval/metrics.hpp"
 #include "splat/nerf/nerf_file.hpp"
 #include "splat/train/training_support.hpp"
 
@@ -202,23 +201,9 @@ Image NerfTrainer::render(const Camera& camera) {
 }
 
 Evaluation NerfTrainer::evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) {
-  Evaluation e;
-  double psnr_sum = 0, ssim_sum = 0;
-  if (renders) renders->clear();
-  for (const DatasetView& view : views) {
-    Image image = render(view.camera);
-    const double p = psnr(image, view.image), s = ssim(image, view.image);
-    e.view_psnr.push_back(p);
-    psnr_sum += p;
-    ssim_sum += s;
-    if (renders) renders->push_back(std::move(image));
-  }
-  e.views = int(views.size());
-  if (e.views > 0) {
-    e.psnr = psnr_sum / e.views;
-    e.ssim = ssim_sum / e.views;
-  }
-  return e;
+  return score_views(
+      views, [](const DatasetView& view) { return view.camera; }, [&](const Camera& camera) { return render(camera); },
+      renders);
 }
 
 void NerfTrainer::check_finite(int iteration) const {

@@ -8,7 +8,6 @@
 
 #include "splat/core/frame_change.hpp"
 #include "splat/data/resample.hpp"
-#include "splat/eval/metrics.hpp"
 #include "splat/gaussians/initialization.hpp"
 #include "splat/optim/lr_schedule.hpp"
 #include "splat/train/training_support.hpp"
@@ -296,25 +295,12 @@ Camera SplatTrainer::scoring_camera(const DatasetView& view) const {
 }
 
 Evaluation SplatTrainer::evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) {
-  Evaluation e;
-  if (renders) renders->clear();
   // Under pose refinement the scene's frame has moved with the training poses: each view is
   // first aligned to its photograph with the model fixed, from its recorded pose every time
   // (so a score depends only on the model, and a resumed run scores as an uninterrupted one).
-  for (const DatasetView& view : views) {
-    Image image = render(scoring_camera(view));
-    const double view_psnr = psnr(image, view.image);
-    e.view_psnr.push_back(view_psnr);
-    e.psnr += view_psnr;
-    e.ssim += ssim(image, view.image);
-    if (renders) renders->push_back(std::move(image));
-  }
-  e.views = int(views.size());
-  if (e.views > 0) {
-    e.psnr /= e.views;
-    e.ssim /= e.views;
-  }
-  return e;
+  return score_views(
+      views, [&](const DatasetView& view) { return scoring_camera(view); },
+      [&](const Camera& camera) { return render(camera); }, renders);
 }
 
 }  // namespace splat

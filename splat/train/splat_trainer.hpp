@@ -16,6 +16,7 @@
 #include "splat/optim/photometric_loss.hpp"
 #include "splat/raster/rasterizer.hpp"
 #include "splat/train/density_strategy.hpp"
+#include "splat/train/evaluation.hpp"
 #include "splat/train/exposure_compensation.hpp"
 #include "splat/train/pose_alignment.hpp"
 #include "splat/train/training_config.hpp"
@@ -63,12 +64,6 @@ struct StepResult {
   int resolution_divisor = 1;  // the image trained on was 1/this of the full size
   IterationTimings timings;
   DensityStepReport density;
-};
-
-struct Evaluation {
-  double psnr = 0, ssim = 0;      // means over the views; images clamped to [0, 1]
-  int views = 0;
-  std::vector<double> view_psnr;  // per view
 };
 
 class SplatTrainer {

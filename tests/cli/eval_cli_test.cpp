@@ -65,7 +65,7 @@ TEST(EvalCli, TrainsBothMethodsAndWritesResultsModelsRendersAndGrids) {
       eval_command(dir, data, "--methods splat,nerf --max-seconds 60 --eval-every-seconds 0.05 --threads 2"), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   // Progress names the method, the stage and the ETA.
-  for (const char* word : {"[splat", "[nerf", "training", "scoring", "rendering", "ETA"})
+  for (const char* word : {"[splat", "[nerf", "training", "scoring", "ETA"})
     EXPECT_NE(r.out.find(word), std::string::npos) << word << " not in:\n" << r.out;
 
   const fs::path out = dir / "out";
@@ -91,6 +91,11 @@ TEST(EvalCli, TrainsBothMethodsAndWritesResultsModelsRendersAndGrids) {
     EXPECT_TRUE(std::isfinite(m.at("final").at("ssim").get<double>()));
     EXPECT_LT(m.at("train_seconds").get<double>(), 60.0);
     EXPECT_GT(m.at("render_ms_per_view_median").get<double>(), 0.0);
+    // What scoring cost: its limit during training, its share, the final score's seconds.
+    EXPECT_EQ(m.at("scoring").at("share_limit").get<double>(), 0.1);
+    EXPECT_GE(m.at("scoring").at("share").get<double>(), 0.0);
+    EXPECT_GT(m.at("scoring").at("final_score_seconds").get<double>(), 0.0);
+    EXPECT_GE(m.at("scoring").at("skipped_scores").get<int>(), 0);
     const auto& history = m.at("history");
     ASSERT_GE(history.size(), 2u);
     for (std::size_t i = 0; i < history.size(); ++i) {

@@ -19,6 +19,7 @@ class FakeTrainer final : public cli::TrainerAdapter {
  public:
   explicit FakeTrainer(double& clock) : clock_(clock) {}
   double step_seconds = 1, evaluate_seconds = 10;
+  double seconds_per_view = 0;           // when set, an evaluation takes this per view instead
   std::optional<int> diverge_at;         // the step that throws TrainingDiverged
   bool nonfinite_after_steps = false;    // what only the final check sees
   std::vector<int> evaluated_at;         // the iteration of each evaluation
@@ -30,13 +31,17 @@ class FakeTrainer final : public cli::TrainerAdapter {
     ++iteration_;
     return {};
   }
-  Evaluation evaluate(const std::vector<DatasetView>&, std::vector<Image>*) override {
-    clock_ += evaluate_seconds;
+  Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) override {
+    clock_ += seconds_per_view > 0 ? seconds_per_view * double(views.size()) : evaluate_seconds;
     evaluated_at.push_back(iteration_);
+    evaluated_views.push_back(int(views.size()));
+    if (renders) renders->assign(views.size(), Image(1, 1, 3));
     Evaluation e;
     e.psnr = iteration_;
+    e.views = int(views.size());
     return e;
   }
+  std::vector<int> evaluated_views;  // how many views each evaluation scored
   int iteration() const override { return iteration_; }
   void set_time_budget_fraction(double fraction) override { budget_fractions.push_back(fraction); }
   void check_parameters_finite() const override {
@@ -45,7 +50,6 @@ class FakeTrainer final : public cli::TrainerAdapter {
 
   std::string method() const override { return "fake"; }
   cli::RunSchedule schedule() const override { return {}; }
-  Image render(const Camera&) override { return Image(); }
   std::size_t num_gaussians() const override { return 0; }
   std::size_t num_params() const override { return 0; }
   std::string model_size() const override { return ""; }
@@ -254,6 +258,59 @@ TEST_F(TrainingLoop, ScoringWithoutViewsIsRefused) {
   options.score_at_end = true;
   options.score_views = nullptr;
   EXPECT_THROW(run(), ArgumentError);
+}
+
+
+// Time-scheduled scores are taken only while scoring stays within its share of the training
+// time: each costs 4 s (four views at 1 s), the first estimated from one view scored alone.
+TEST_F(TrainingLoop, ScoresStayWithinTheirShareOfTrainingTime) {
+  views.resize(4);
+  trainer.seconds_per_view = 1;
+  options.iterations = 1000;
+  options.max_seconds = 100;
+  options.budget_clock = BudgetClock::kTraining;
+  options.score_every_seconds = 10;
+  options.score_share = 0.1;
+  options.score_at_end = true;
+  const auto result = run();
+  // At 10 s the probe (1 s) plus the other three views would take 4 s of an allowed 1 s:
+  // skipped, the probe counted. Then 1 + 4 s fits at 50 s (5 s allowed), 5 + 4 at 90 s.
+  ASSERT_EQ(observer.scores.size(), 3u);
+  EXPECT_DOUBLE_EQ(observer.scores[0].train_seconds, 50.0);
+  EXPECT_DOUBLE_EQ(observer.scores[1].train_seconds, 90.0);
+  EXPECT_DOUBLE_EQ(observer.scores[2].train_seconds, 100.0);  // the final score, not limited
+  EXPECT_EQ(trainer.evaluated_views, (std::vector<int>{1, 4, 4, 4}));
+  EXPECT_EQ(result.skipped_scores, 7);  // 10, 20, 30, 40, 60, 70, 80 s
+  EXPECT_DOUBLE_EQ(result.score_seconds, 13.0);
+  EXPECT_DOUBLE_EQ(result.final_score_seconds, 4.0);
+  EXPECT_LE(result.score_seconds - result.final_score_seconds, 0.1 * result.train_seconds);
+}
+
+// A probe that fits goes on with the other views: one score of all of them.
+TEST_F(TrainingLoop, AnAffordableProbeBecomesPartOfTheScore) {
+  views.resize(4);
+  trainer.seconds_per_view = 1;
+  options.iterations = 1000;
+  options.max_seconds = 100;
+  options.budget_clock = BudgetClock::kTraining;
+  options.score_every_seconds = 60;
+  options.score_share = 0.1;
+  run();
+  EXPECT_EQ(trainer.evaluated_views, (std::vector<int>{1, 3}));
+  ASSERT_EQ(observer.scores.size(), 1u);
+  EXPECT_DOUBLE_EQ(observer.scores[0].evaluate_seconds, 4.0);
+}
+
+TEST_F(TrainingLoop, KeepsTheFinalScoresRendersEvenWhenTheModelWasJustScored) {
+  views.resize(3);
+  options.iterations = 10;
+  options.score_every_iterations = 5;
+  options.score_at_end = true;
+  options.keep_final_renders = true;
+  const auto result = run();
+  EXPECT_EQ(trainer.evaluated_at, (std::vector<int>{4, 10}));
+  EXPECT_EQ(result.final_renders.size(), 3u);
+  EXPECT_DOUBLE_EQ(result.final_score_seconds, 10.0);
 }
 
 }  // namespace

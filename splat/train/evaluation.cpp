@@ -1,0 +1,47 @@
+#include "splat/train/evaluation.hpp"
+
+#include <chrono>
+
+#include "splat/eval/metrics.hpp"
+#include "splat/optim/photometric_loss.hpp"
+
+namespace splat {
+
+Evaluation score_views(const std::vector<DatasetView>& views, const std::function<Camera(const DatasetView&)>& camera_for,
+                       const std::function<Image(const Camera&)>& render, std::vector<Image>* renders) {
+  Evaluation e;
+  if (renders) renders->clear();
+  double psnr_sum = 0, ssim_sum = 0;
+  for (const DatasetView& view : views) {
+    const Camera camera = camera_for(view);
+    const auto start = std::chrono::steady_clock::now();
+    Image image = render(camera);
+    e.view_render_ms.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    const double view_psnr = psnr(image, view.image);
+    e.view_psnr.push_back(view_psnr);
+    psnr_sum += view_psnr;
+    ssim_sum += ssim(image, view.image);
+    if (renders) renders->push_back(std::move(image));
+  }
+  e.views = int(views.size());
+  if (e.views > 0) {
+    e.psnr = psnr_sum / e.views;
+    e.ssim = ssim_sum / e.views;
+  }
+  return e;
+}
+
+Evaluation merged(const Evaluation& a, const Evaluation& b) {
+  Evaluation e = a;
+  e.views = a.views + b.views;
+  if (e.views > 0) {
+    e.psnr = (a.psnr * a.views + b.psnr * b.views) / e.views;
+    e.ssim = (a.ssim * a.views + b.ssim * b.views) / e.views;
+  }
+  e.view_psnr.insert(e.view_psnr.end(), b.view_psnr.begin(), b.view_psnr.end());
+  e.view_render_ms.insert(e.view_render_ms.end(), b.view_render_ms.begin(), b.view_render_ms.end());
+  return e;
+}
+
+}  // namespace splat
