@@ -13,6 +13,10 @@ namespace {
 // of thousands of rows at this size).
 constexpr std::size_t kImageBatchRays = 1024;
 
+// Below this opacity of the coarse ray, the fine pass draws the background: what it could
+// add there changes the pixel by about this much.
+constexpr float kFineMinCoarseOpacity = 1e-3f;
+
 // Fills the network inputs (sample points and the ray's direction) of a placed pass.
 void fill_inputs(const SceneSpace& space, std::span<const Ray> rays, const std::vector<std::uint32_t>& offsets,
                  const std::vector<float>& t, std::vector<float>& positions, std::vector<float>& directions) {
@@ -65,6 +69,9 @@ void NerfRenderer::place_fine(const NerfModel& model, std::span<const Ray> rays,
     pass.offsets[r] = std::uint32_t(pass.t.size());
     const std::uint32_t begin = coarse.offsets[r], end = coarse.offsets[r + 1];
     if (begin == end) continue;  // nothing in the box here: the background
+    // Nor where the coarse pass saw (next to) nothing: about half of lego's rays, each of
+    // which would cost the fine network as much as a ray through the object.
+    if (coarse.render.alpha[r] < kFineMinCoarseOpacity) continue;
     // The fine pass refines only what the coarse one saw: up to and including the sample
     // where the coarse ray stopped (transmittance below the compositor's floor). The samples
     // behind a surface, most of a solid object's, carry no weight and would cost the fine

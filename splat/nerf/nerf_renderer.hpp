@@ -6,8 +6,8 @@
 // occupancy cells dropped; the coarse network and the shared compositor give the coarse
 // colour and weights; importance samples drawn from those weights, merged with the coarse
 // positions, go through the fine network for the fine colour; the fine pass stops where the
-// coarse ray became opaque. A ray that misses the box, or whose samples all fall in empty
-// cells, shows the background.
+// coarse ray became opaque. A ray that misses the box, whose samples all fall in empty cells,
+// or whose coarse opacity is below 10⁻³, shows the background in the fine pass.
 //
 // Sample placement is serial in ray order (from the caller's RNG when jittered), the
 // networks and the compositing are parallel and deterministic: the same seed gives the same

@@ -13,6 +13,12 @@ Scalar angular_frequency(int k) {
   return std::ldexp(Scalar(std::numbers::pi), k);
 }
 
+// Frequencies computed with sin and cos; the ones between come from the one below by the
+// double-angle formulas (a fifth of the cost). Each doubling at most doubles the error, so
+// after three it is 8 units in the last place, the size of the error the rounded argument
+// 2ᵏπ·p of the direct evaluation already carries at those frequencies.
+constexpr int kExactEvery = 4;
+
 }  // namespace
 
 template <typename Scalar>
@@ -22,11 +28,21 @@ void encode(const Scalar* xyz, int frequencies, Scalar* out) {
   out[2] = xyz[2];
   Scalar* sines = out + 3;
   for (int k = 0; k < frequencies; ++k, sines += 6) {
-    const Scalar omega = angular_frequency<Scalar>(k);
+    if (k % kExactEvery == 0) {
+      const Scalar omega = angular_frequency<Scalar>(k);
+      for (int c = 0; c < 3; ++c) {
+        const Scalar angle = omega * xyz[c];
+        sines[c] = std::sin(angle);
+        sines[3 + c] = std::cos(angle);
+      }
+      continue;
+    }
+    // The double angle from the frequency below: sin 2a = 2 sin a cos a,
+    // cos 2a = (cos a − sin a)(cos a + sin a).
     for (int c = 0; c < 3; ++c) {
-      const Scalar angle = omega * xyz[c];
-      sines[c] = std::sin(angle);
-      sines[3 + c] = std::cos(angle);
+      const Scalar s = sines[c - 6], co = sines[3 + c - 6];
+      sines[c] = Scalar(2) * s * co;
+      sines[3 + c] = (co - s) * (co + s);
     }
   }
 }

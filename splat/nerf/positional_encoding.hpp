@@ -4,7 +4,8 @@
 // for p = (x, y, z) and L frequencies. Exact order of the 3 + 6L outputs, as the reference
 // NeRF code concatenates them (identity, then per frequency all sines, then all cosines):
 //   x y z,  sin(ω₀x) sin(ω₀y) sin(ω₀z),  cos(ω₀x) cos(ω₀y) cos(ω₀z),  sin(ω₁x) …,  with ωₖ = 2ᵏπ.
-// (The reference code drops π from ωₖ; the paper and this code keep it.)
+// (The reference code drops π from ωₖ; the paper and this code keep it.) Every fourth
+// frequency is evaluated with sin and cos, the ones between by the double-angle formulas.
 //
 // One sample's code is contiguous, so a batch of N codes is a column-major [3 + 6L, N]
 // matrix: the right operand of the MLP's first product W·Γ.

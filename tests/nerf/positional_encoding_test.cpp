@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "gradient_check.hpp"
@@ -39,6 +40,27 @@ TEST(NerfEncoding, HandValuesInDocumentedOrder) {
   check_hand_values<double>(1e-15);
   // float: arguments such as float(π)·0.5 are off by ~1e-7, so values near 0 are too.
   check_hand_values<float>(3e-7);
+}
+
+// The double-angle steps between directly evaluated frequencies stay as close to sin and
+// cos of the exact 2ᵏπp as the directly evaluated float values are (both within a few units
+// in the last place of the largest argument).
+TEST(NerfEncoding, DoubledFrequenciesMatchSinAndCos) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> coordinate(-2.0f, 2.0f);
+  for (int trial = 0; trial < 200; ++trial) {
+    const float xyz[3] = {coordinate(rng), coordinate(rng), coordinate(rng)};
+    std::vector<float> out(encoded_size(10));
+    std::vector<double> exact(encoded_size(10));
+    encode(xyz, 10, out.data());
+    const double xyz_exact[3] = {xyz[0], xyz[1], xyz[2]};
+    encode(xyz_exact, 10, exact.data());
+    for (int k = 0; k < 10; ++k)
+      for (int j = 0; j < 6; ++j) {
+        const double angle_ulp = std::ldexp(std::numbers::pi * 2.0, k) * 6e-8;  // |2ᵏπp| ≤ 2ᵏ·2π
+        EXPECT_NEAR(out[3 + 6 * k + j], exact[3 + 6 * k + j], 4 * angle_ulp + 1e-6) << "k " << k;
+      }
+  }
 }
 
 TEST(NerfEncoding, BatchIsSampleMajorSingleEncodings) {
