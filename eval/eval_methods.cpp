@@ -63,6 +63,9 @@ MethodRunRequest method_request(const EvalCommandOptions& options, const std::st
     from_json(options.splat_settings, request.splat_config);
   }
   request.nerf_config = options.nerf_config;
+  // The budget is the NeRF's limit, as splat-train's --max-seconds (train/main.cpp).
+  if (request.nerf_config.iterations == NerfTrainingConfig{}.iterations)
+    request.nerf_config.iterations = kNerfIterationsUnderBudget;
   std::copy(options.dataset.background, options.dataset.background + 3, request.splat_config.background);
   std::copy(options.dataset.background, options.dataset.background + 3, request.nerf_config.background);
   // The budget is the only limit that matters here; the loop scores.

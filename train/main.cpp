@@ -25,7 +25,8 @@ DIR/test/<view>.png, DIR/config.json and DIR/checkpoint.ckpt.
                         density control of the splats: compact (default) grows the model
                         only while it pays and prunes what contributes nothing; official
                         is the official 3DGS recipe, bit for bit
-  --iters N             iterations (default 50000 compact, 30000 official, 20000 nerf)
+  --iters N             iterations (default 50000 compact, 30000 official, 20000 nerf;
+                        with --max-seconds the NeRF trains until the time is up)
   --max-seconds S       stop after S seconds of wall time (whichever limit comes first)
   --bg white|black      background the RGBA images are composited onto (default white)
   --seed N              random seed (default 0); results do not depend on --threads
@@ -107,6 +108,11 @@ int main(int argc, char** argv) {
       if (args.has("exposure-compensation"))
         throw splat::ArgumentError("--exposure-compensation is a splat setting; the NeRF has no exposure maps");
       apply_options(args, options.nerf_config, options);
+      // A time budget is the NeRF's limit (its rate decays over it): its default iteration
+      // count, a limit for runs without one, does not cut it short.
+      if (args.value("max-seconds") && !args.value("iters") &&
+          options.nerf_config.iterations == splat::NerfTrainingConfig{}.iterations)
+        options.nerf_config.iterations = splat::kNerfIterationsUnderBudget;
     } else {
       const auto strategy = args.value("strategy");
       options.config = splat::splat_training_preset(strategy.value_or("compact"));

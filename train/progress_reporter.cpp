@@ -34,8 +34,11 @@ std::string ProgressReporter::format(const ProgressSnapshot& s) const {
   if (s.train_psnr) std::snprintf(psnr, sizeof(psnr), " | PSNR %.2f", *s.train_psnr);
   char test[64] = "";
   if (s.test_psnr) std::snprintf(test, sizeof(test), " | test %.2f dB", *s.test_psnr);
+  // Done: the share of whichever limit is nearer.
+  double done = double(s.iteration) / std::max(1, s.total_iterations);
+  if (s.max_seconds > 0) done = std::max(done, std::min(1.0, s.elapsed_seconds / s.max_seconds));
   std::snprintf(buffer, sizeof(buffer), "iter %d/%d (%3.0f%%) | %.2f it/s | loss %.4f%s%s | %s | %s elapsed | ETA %s",
-                s.iteration, s.total_iterations, 100.0 * s.iteration / std::max(1, s.total_iterations),
+                s.iteration, s.total_iterations, 100.0 * done,
                 s.iterations_per_second, s.loss, psnr, test, s.model_size.c_str(),
                 format_duration(s.elapsed_seconds).c_str(), format_duration(eta).c_str());
   return buffer;

@@ -16,6 +16,9 @@
 
 namespace splat {
 
+// The iteration limit of a NeRF run with a time budget and no iteration count of its own.
+constexpr int kNerfIterationsUnderBudget = 10'000'000;
+
 struct NerfTrainingConfig {
   int iterations = 20000;
   double max_seconds = 0;  // wall-clock limit, 0 = none; whichever ends first
