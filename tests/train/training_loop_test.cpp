@@ -263,14 +263,22 @@ TEST_F(TrainingLoop, ScoringWithoutViewsIsRefused) {
 
 // Time-scheduled scores are taken only while scoring stays within its share of the training
 // time: each costs 4 s (four views at 1 s), the first estimated from one view scored alone.
-TEST_F(TrainingLoop, ScoresStayWithinTheirShareOfTrainingTime) {
-  views.resize(4);
-  trainer.seconds_per_view = 1;
-  options.iterations = 1000;
-  options.max_seconds = 100;
-  options.budget_clock = BudgetClock::kTraining;
-  options.score_every_seconds = 10;
-  options.score_share = 0.1;
+// 100 s of training scored every `every` seconds within a tenth of it; four views at 1 s each.
+class ScoreShare : public TrainingLoop {
+ protected:
+  void set_up(double every) {
+    views.resize(4);
+    trainer.seconds_per_view = 1;
+    options.iterations = 1000;
+    options.max_seconds = 100;
+    options.budget_clock = BudgetClock::kTraining;
+    options.score_every_seconds = every;
+    options.score_share = 0.1;
+  }
+};
+
+TEST_F(ScoreShare, ScoresStayWithinTheirShareOfTrainingTime) {
+  set_up(10);
   options.score_at_end = true;
   const auto result = run();
   // At 10 s the probe (1 s) plus the other three views would take 4 s of an allowed 1 s:
@@ -287,14 +295,8 @@ TEST_F(TrainingLoop, ScoresStayWithinTheirShareOfTrainingTime) {
 }
 
 // A probe that fits goes on with the other views: one score of all of them.
-TEST_F(TrainingLoop, AnAffordableProbeBecomesPartOfTheScore) {
-  views.resize(4);
-  trainer.seconds_per_view = 1;
-  options.iterations = 1000;
-  options.max_seconds = 100;
-  options.budget_clock = BudgetClock::kTraining;
-  options.score_every_seconds = 60;
-  options.score_share = 0.1;
+TEST_F(ScoreShare, AnAffordableProbeBecomesPartOfTheScore) {
+  set_up(60);
   run();
   EXPECT_EQ(trainer.evaluated_views, (std::vector<int>{1, 3}));
   ASSERT_EQ(observer.scores.size(), 1u);
