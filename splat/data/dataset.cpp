@@ -105,7 +105,30 @@ Dataset load_dataset(const fs::path& folder, const DatasetOptions& options) {
                      "NeRF-synthetic) or sparse/0/ with cameras, images and points3D (COLMAP)");
   }
   dataset.scene_extent = dataset_detail::scene_extent(dataset.train);
+  for (std::vector<DatasetView>* views : {&dataset.train, &dataset.test})
+    for (DatasetView& view : *views) view.frame_background_share = frame_background_share(view.image, options.background);
   return dataset;
+}
+
+float frame_background_share(const Image& image, const float background[3]) {
+  if (image.width < 1 || image.height < 1) return 0.0f;
+  constexpr float kHalfLevel = 0.5f / 255.0f;
+  std::size_t frame = 0, plain = 0;
+  const auto count = [&](int x, int y) {
+    ++frame;
+    bool same = true;
+    for (int c = 0; c < 3; ++c) same = same && std::abs(image.at(x, y, c) - background[c]) <= kHalfLevel;
+    plain += same;
+  };
+  for (int x = 0; x < image.width; ++x) {  // top and bottom rows (once when they are one)
+    count(x, 0);
+    if (image.height > 1) count(x, image.height - 1);
+  }
+  for (int y = 1; y + 1 < image.height; ++y) {  // left and right columns between them
+    count(0, y);
+    if (image.width > 1) count(image.width - 1, y);
+  }
+  return float(plain) / float(frame);
 }
 
 }  // namespace splat

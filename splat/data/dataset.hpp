@@ -15,6 +15,11 @@ struct DatasetView {
   std::string name;        // image base name, e.g. "r_1" or "000"
   Camera camera;           // pinhole, internal convention, at the loaded (downscaled) size
   Image image;             // [H, W, 3] in [0, 1], alpha composited onto the background
+  // The share of the image's frame (its outermost rows and columns) that shows only the
+  // plain background it was composited onto: transparent in the file, or that colour
+  // exactly. Near 1 for an object rendered or photographed on its own, near 0 when the
+  // scene reaches the frame (a room, a landscape, a sky of another colour).
+  float frame_background_share = 0;
 };
 
 // Points to initialise Gaussians from (COLMAP points3D).
@@ -46,5 +51,9 @@ struct Dataset {
 // file on missing or unreadable images, images of the wrong size, a transforms file without
 // frames, an unknown camera model, an empty point cloud, or a folder of neither kind.
 Dataset load_dataset(const std::filesystem::path& folder, const DatasetOptions& options = {});
+
+// DatasetView::frame_background_share of `image` (RGB) against `background`: a pixel shows
+// the background when every channel is within half an 8-bit level of it.
+float frame_background_share(const Image& image, const float background[3]);
 
 }  // namespace splat

@@ -122,6 +122,33 @@ TEST(DatasetFolders, BlenderRgbImagesAndValidationSplit) {
   EXPECT_EQ(d.scene_extent, 1.0f);
 }
 
+TEST(DatasetFolders, ViewsSayHowMuchOfTheirFrameIsPlainBackground) {
+  // A 6 x 5 image has a frame of 18 pixels. code_pattern's alpha is 0 at (0, 0) only, so
+  // composited that one shows the background; paint five more of them in its colour, and
+  // one inside the frame, which does not count.
+  const fs::path dir = test::scratch_dir("dataset_blender_frame");
+  test::write_blender_folder(dir, 6, 5, 2, 1);
+  Image rgba = test::code_pattern(6, 5, 4, 1);
+  const float grey[3] = {0.2f, 0.4f, 0.6f};
+  for (auto [x, y] : {std::pair{1, 0}, {5, 0}, {0, 4}, {5, 2}, {3, 4}, {2, 2}})
+    for (int c = 0; c < 4; ++c) rgba.at(x, y, c) = c < 3 ? grey[c] : 1.0f;
+  write_png(rgba, dir / "train" / "r_1.png");
+  DatasetOptions options;
+  std::copy(grey, grey + 3, options.background);
+  const Dataset d = load_dataset(dir, options);
+  EXPECT_FLOAT_EQ(d.train[1].frame_background_share, 6.0f / 18.0f);
+  EXPECT_FLOAT_EQ(d.train[0].frame_background_share, 1.0f / 18.0f);
+  // Against another background only the transparent pixel matches.
+  const Dataset white = load_dataset(dir);
+  EXPECT_FLOAT_EQ(white.train[1].frame_background_share, 1.0f / 18.0f);
+  EXPECT_FLOAT_EQ(white.test[0].frame_background_share, 1.0f / 18.0f);
+  // Whole images: all background, none; one row.
+  const float white_rgb[3] = {1, 1, 1};
+  EXPECT_EQ(frame_background_share(Image(4, 3, 3, 1.0f), white_rgb), 1.0f);
+  EXPECT_EQ(frame_background_share(Image(4, 3, 3, 0.9f), white_rgb), 0.0f);
+  EXPECT_EQ(frame_background_share(Image(4, 1, 3, 1.0f), white_rgb), 1.0f);
+}
+
 TEST(DatasetFolders, ColmapTextAndBinaryLoadTheSame) {
   const fs::path dir = test::scratch_dir("dataset_colmap_forms");
   const TestModel model = folder_model(10);
