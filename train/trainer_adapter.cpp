@@ -56,6 +56,7 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
   }
   void add_metrics(nlohmann::json& m) const override {
     m["scene_extent"] = trainer_.scene_extent();
+    m["initialisation"] = to_json(trainer_.initialisation());
     m["strategy"] = trainer_.strategy().name();
     m["density_control"] = trainer_.strategy().metrics();
     if (trainer_.config().refine_poses) m["pose_refinement"] = pose_refinement_metrics();

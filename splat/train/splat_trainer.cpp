@@ -8,7 +8,6 @@
 
 #include "splat/core/frame_change.hpp"
 #include "splat/data/resample.hpp"
-#include "splat/gaussians/initialization.hpp"
 #include "splat/optim/lr_schedule.hpp"
 #include "splat/train/training_support.hpp"
 
@@ -39,16 +38,6 @@ using training::Clock;
 using training::kLastGoodInterval;
 using training::ms_since;
 
-// A Gaussian budget (max_gaussians) bounds the starting model too, not only densification.
-GaussianModel initial_model(const Dataset& dataset, const SplatTrainingConfig& config) {
-  const std::size_t budget = config.density.max_gaussians;
-  if (dataset.points && dataset.points->size() > 0)
-    return initialize_from_points(budget > 0 ? evenly_subsampled(*dataset.points, budget) : *dataset.points,
-                                  config.sh_degree);
-  const std::size_t count = budget > 0 ? std::min(config.random_init_points, budget) : config.random_init_points;
-  return initialize_random(count, config.random_init_half_extent, config.seed, config.sh_degree);
-}
-
 Image clamped(const Image& image) {
   Image out = image;
   for (float& v : out.data) v = std::clamp(v, 0.0f, 1.0f);
@@ -61,7 +50,7 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
     : dataset_(dataset),
       config_(config),
       scene_extent_(dataset.scene_extent),
-      model_(initial_model(dataset, config)),
+      model_(initial_model(dataset, config, &initialisation_)),
       rng_(config.seed) {
   if (dataset.train.empty()) throw ArgumentError("training needs at least one training view");
   if (config_.schedule_iterations < 0) throw ArgumentError("schedule_iterations must be >= 0");

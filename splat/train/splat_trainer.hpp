@@ -18,6 +18,7 @@
 #include "splat/train/density_strategy.hpp"
 #include "splat/train/evaluation.hpp"
 #include "splat/train/exposure_compensation.hpp"
+#include "splat/train/initial_model.hpp"
 #include "splat/train/pose_alignment.hpp"
 #include "splat/train/training_config.hpp"
 
@@ -68,7 +69,8 @@ struct StepResult {
 
 class SplatTrainer {
  public:
-  // Initialises the model from the dataset's points, or randomly in a cube if it has none.
+  // Initialises the model from the dataset's points, or at random where the config and the
+  // cameras say (initial_model.hpp).
   SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& config);
 
   // One iteration. Throws TrainingDiverged on a non-finite loss or parameter.
@@ -91,6 +93,7 @@ class SplatTrainer {
   const GaussianModel& last_good_model() const { return last_good_model_; }
   const SplatTrainingConfig& config() const { return config_; }
   float scene_extent() const { return scene_extent_; }
+  const InitialisationReport& initialisation() const { return initialisation_; }
   const DensityStrategy& strategy() const { return *strategy_; }
   // Pose refinement's corrections of the training views (none without refine_poses).
   const PoseRefiner& pose_refiner() const { return pose_refiner_; }
@@ -133,6 +136,7 @@ class SplatTrainer {
   const Dataset& dataset_;
   SplatTrainingConfig config_;
   float scene_extent_;
+  InitialisationReport initialisation_;  // before model_: initial_model fills it
   GaussianModel model_, last_good_model_;
   AdamState adam_;
   std::unique_ptr<DensityStrategy> strategy_;

@@ -1,0 +1,142 @@
+#include "splat/train/initial_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "splat/core/camera_rig.hpp"
+#include "splat/core/error.hpp"
+#include "splat/gaussians/initialization.hpp"
+#include "splat/gaussians/view_points.hpp"
+
+namespace splat {
+namespace {
+
+std::vector<Camera> cameras_of(const std::vector<DatasetView>& views) {
+  std::vector<Camera> cameras;
+  for (const DatasetView& view : views) cameras.push_back(view.camera);
+  return cameras;
+}
+
+// Whether the training images leave the background out: on average at least half of their
+// frames show the plain colour they were composited onto (an object on its own, with
+// nothing to draw around it), rather than scene that reaches the frame.
+bool background_left_out(const std::vector<DatasetView>& views) {
+  double share = 0;
+  for (const DatasetView& view : views) share += view.frame_background_share;
+  return share >= 0.5 * double(views.size());
+}
+
+glm::vec3 mean_centre(const std::vector<Camera>& cameras) {
+  glm::vec3 mean(0.0f);
+  for (const Camera& camera : cameras) mean += camera.center_in_world() / float(cameras.size());
+  return mean;
+}
+
+void append(PointCloud& to, const PointCloud& from) {
+  to.positions.insert(to.positions.end(), from.positions.begin(), from.positions.end());
+  to.colors.insert(to.colors.end(), from.colors.begin(), from.colors.end());
+}
+
+// Random points in the views' frusta, plus the shell when the images show a background.
+GaussianModel frusta_model(const Dataset& dataset, const SplatTrainingConfig& config, std::size_t count,
+                           const glm::vec3& centre, float distance, InitialisationReport& report) {
+  const bool shell = !background_left_out(dataset.train) && config.random_init_shell_fraction > 0;
+  const std::size_t shell_count =
+      shell ? std::max<std::size_t>(1, std::size_t(std::lround(double(count) * config.random_init_shell_fraction)))
+            : 0;
+  report.kind = "frusta";
+  report.centre = centre;
+  report.distance = distance;
+  report.near = config.random_init_near * distance;
+  report.far = config.random_init_far * distance;
+  std::mt19937 rng(config.seed);
+  PointCloud cloud;
+  if (shell_count > 0) {
+    // About the count asked for; never more, so a Gaussian budget holds.
+    cloud = evenly_subsampled(background_shell(dataset.train, centre, report.far, std::min(shell_count, count)),
+                              std::min(shell_count, count));
+    report.shell_radius = report.far;
+    report.shell_points = cloud.size();
+  }
+  // The shell takes what the views see of the sphere; the frusta the rest of the count.
+  const std::size_t frustum_count = count - std::min(count, cloud.size());
+  if (frustum_count > 0) append(cloud, frustum_points(dataset.train, frustum_count, report.near, report.far,
+                                                         config.random_init_depth_candidates, rng));
+  report.frustum_points = frustum_count;
+  return initialize_from_points(cloud, config.sh_degree);
+}
+
+void check_settings(const SplatTrainingConfig& c) {
+  const auto fail = [](const std::string& what) { throw ArgumentError("random initialisation: " + what); };
+  if (c.random_init_points == 0) fail("random_init_points must be at least 1");
+  if (!(c.random_init_half_extent >= 0.0f && std::isfinite(c.random_init_half_extent)))
+    fail("random_init_half_extent must be finite and >= 0 (0 = placed by the cameras)");
+  if (!(c.random_init_near > 0.0f && c.random_init_near < c.random_init_far && std::isfinite(c.random_init_far)))
+    fail("needs 0 < random_init_near < random_init_far (finite), not " + std::to_string(c.random_init_near) +
+         " and " + std::to_string(c.random_init_far));
+  if (c.random_init_depth_candidates < 1) fail("random_init_depth_candidates must be at least 1");
+  if (!(c.random_init_shell_fraction >= 0.0f && c.random_init_shell_fraction <= 1.0f))
+    fail("random_init_shell_fraction must be in [0, 1]");
+}
+
+}  // namespace
+
+nlohmann::json to_json(const InitialisationReport& r) {
+  nlohmann::json j{{"kind", r.kind}};
+  if (r.kind == "cube") {
+    j["centre"] = {r.centre.x, r.centre.y, r.centre.z};
+    j["half_extent"] = r.half_extent;
+    if (r.distance > 0) j["camera_distance"] = r.distance;
+  } else if (r.kind == "frusta") {
+    j["centre"] = {r.centre.x, r.centre.y, r.centre.z};
+    j["camera_distance"] = r.distance;
+    j["near"] = r.near;
+    j["far"] = r.far;
+    j["frustum_points"] = r.frustum_points;
+    j["shell_points"] = r.shell_points;
+    j["shell_radius"] = r.shell_radius;
+  }
+  return j;
+}
+
+GaussianModel initial_model(const Dataset& dataset, const SplatTrainingConfig& config,
+                            InitialisationReport* report) {
+  InitialisationReport local;
+  InitialisationReport& r = report ? *report : local;
+  r = {};
+  check_settings(config);
+  const std::size_t budget = config.density.max_gaussians;
+  if (dataset.points && dataset.points->size() > 0) {
+    r.kind = "points";
+    return initialize_from_points(budget > 0 ? evenly_subsampled(*dataset.points, budget) : *dataset.points,
+                                  config.sh_degree);
+  }
+  const std::size_t count = budget > 0 ? std::min(config.random_init_points, budget) : config.random_init_points;
+  if (config.random_init_half_extent > 0) {
+    r.kind = "cube";
+    r.half_extent = config.random_init_half_extent;
+    return initialize_random(count, config.random_init_half_extent, config.seed, config.sh_degree);
+  }
+
+  const std::vector<Camera> cameras = cameras_of(dataset.train);
+  const std::optional<CameraRig> rig = converging_rig(cameras);
+  if (rig && rig->seen_radius > 0 && background_left_out(dataset.train)) {
+    r.kind = "cube";
+    r.centre = rig->focus;
+    r.distance = rig->distance;
+    r.half_extent = rig->seen_radius;
+    GaussianModel model = initialize_random(count, rig->seen_radius, config.seed, config.sh_degree);
+    // Moved after the scales are set: they depend only on the points' spacing.
+    for (std::size_t i = 0; i < model.size(); ++i)
+      for (int a = 0; a < 3; ++a) model.means[3 * i + a] += rig->focus[a];
+    return model;
+  }
+  if (rig) return frusta_model(dataset, config, count, rig->focus, rig->distance, r);
+  return frusta_model(dataset, config, count, mean_centre(cameras), dataset.scene_extent, r);
+}
+
+}  // namespace splat
