@@ -52,6 +52,14 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
       scene_extent_(dataset.scene_extent),
       model_(initial_model(dataset, config, &initialisation_)),
       rng_(config.seed) {
+  if (!(config_.far_position_step_exponent >= 0.0f && std::isfinite(config_.far_position_step_exponent)))
+    throw ArgumentError("far_position_step_exponent must be finite and >= 0");
+  // Only where the scene may reach any distance and its far content starts at random depths
+  // (initial_model.hpp, "frusta"): a point cloud starts far content at its depth, and an
+  // object in a cube has none.
+  if (initialisation_.kind == "frusta")
+    far_steps_ = {initialisation_.centre, initialisation_.distance, initialisation_.far,
+                  config_.far_position_step_exponent};
   if (dataset.train.empty()) throw ArgumentError("training needs at least one training view");
   if (config_.schedule_iterations < 0) throw ArgumentError("schedule_iterations must be >= 0");
   if (config_.schedule_iterations == 0) config_.schedule_iterations = config_.iterations;
@@ -205,7 +213,9 @@ StepResult SplatTrainer::step() {
   if (!result.density.densified) {
     AdamGroupMask active;
     active.opacity = !result.density.opacity_reset;
+    if (far_steps_.active()) means_before_step_ = model_.means;
     adam_step(model_, grads_.params, adam_, lr, {}, active);
+    if (far_steps_.active()) scale_far_steps(model_.means, means_before_step_, far_steps_);
   }
   if (grads_.with_camera_pose) pose_refiner_.step(view, recorded, grads_.camera_pose, pose_learning_rates());
   strategy_->step_post_optimizer(iteration, state, lr.means);

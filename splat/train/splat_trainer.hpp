@@ -13,6 +13,7 @@
 #include "splat/core/error.hpp"
 #include "splat/data/dataset.hpp"
 #include "splat/optim/adam.hpp"
+#include "splat/optim/far_steps.hpp"
 #include "splat/optim/photometric_loss.hpp"
 #include "splat/raster/rasterizer.hpp"
 #include "splat/train/density_strategy.hpp"
@@ -138,6 +139,8 @@ class SplatTrainer {
   float scene_extent_;
   InitialisationReport initialisation_;  // before model_: initial_model fills it
   GaussianModel model_, last_good_model_;
+  FarSteps far_steps_;                     // off unless the start was random
+  std::vector<float> means_before_step_;   // what scale_far_steps measures the step from
   AdamState adam_;
   std::unique_ptr<DensityStrategy> strategy_;
   std::mt19937 rng_;

@@ -40,6 +40,7 @@ void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
   v("random_init_far", c.random_init_far);
   v("random_init_shell_fraction", c.random_init_shell_fraction);
   v("random_init_depth_candidates", c.random_init_depth_candidates);
+  v("far_position_step_exponent", c.far_position_step_exponent);
   DensityControlSettings& d = c.density;
   v("densify_from_iter", d.densify_from_iter);
   v("densify_until_iter", d.densify_until_iter);
@@ -117,9 +118,11 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
     // Fewer random starting points: most of a random cloud dies in empty space anyway, and
     // the first iterations over 100,000 large transparent Gaussians are the slowest of a run.
     config.random_init_points = 30000;
-    // Placed by the training cameras rather than in the official fixed cube (depth_range:
-    // bench/README.md, issue 16).
+    // Placed by the training cameras rather than in the official fixed cube, and far
+    // content's position steps grown with its distance (depth_range: bench/README.md,
+    // issue 16).
     config.random_init_half_extent = 0.0f;
+    config.far_position_step_exponent = 4.0f;
     // A run of any length, cut by --iters or --max-seconds, stops growing half-way and ends
     // with the steps decayed, refining rather than still moving. The default length is
     // 50,000 iterations: stretched from the official 30,000, the same phases gave lego400

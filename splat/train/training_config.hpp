@@ -70,6 +70,12 @@ struct SplatTrainingConfig {
   // kept (view_points.hpp; 1 = plain random depth).
   int random_init_depth_candidates = 8;
 
+  // Far content's position steps (far_steps.hpp): beyond the cameras' distance D from the
+  // scene's centre, a Gaussian's step is multiplied by (min(r, random_init_far·D) / D)^
+  // exponent. 0 = off (the official). Only after a start through the frusta (above): a
+  // point cloud places far content already, and an object in a cube has none.
+  float far_position_step_exponent = 0.0f;
+
   DensityControlSettings density;    // includes max_gaussians (the Gaussian budget)
   CompactSettings compact;           // the compact strategy's own settings
   AlphaClampGradient alpha_clamp_gradient = AlphaClampGradient::kZero;
