@@ -104,7 +104,9 @@ TEST(InitialModel, OpaqueImagesGetFrustaAndABackgroundShell) {
   // The shell comes first, on the sphere round the focus; the rest lie in the frusta.
   for (std::size_t i = 0; i < model.size(); ++i) {
     const glm::vec3 p(model.means[3 * i], model.means[3 * i + 1], model.means[3 * i + 2]);
-    if (i < report.shell_points) EXPECT_NEAR(glm::length(p - report.centre), report.shell_radius, 1e-3f);
+    if (i < report.shell_points) {
+      EXPECT_NEAR(glm::length(p - report.centre), report.shell_radius, 1e-3f);
+    }
     bool seen = false;
     for (const DatasetView& view : dataset.train) seen = seen || in_view(view.camera, p);
     ASSERT_TRUE(seen) << i;
