@@ -5,6 +5,7 @@
 #include <random>
 
 #include "splat/core/error.hpp"
+#include "splat/data/orbit_cameras.hpp"
 #include "splat/gaussians/ply_io.hpp"
 
 namespace splat::test {
@@ -61,6 +62,27 @@ GaussianModel random_model(int count, int sh_degree, unsigned seed, float extent
       m.sh[std::size_t(i) * m.sh_coefficients() * 3 + k] = (k < 3 ? 1.0f : 0.3f) * n(rng);
   }
   return m;
+}
+
+Dataset orbit_dataset(const glm::vec3& target, float radius, float fov_x, int size, bool transparent) {
+  Dataset dataset;
+  for (float elevation : {0.15f, 0.6f}) {
+    OrbitRig rig;
+    rig.count = 10;
+    rig.radius = radius;
+    rig.elevation_radians = elevation;
+    rig.fov_x_radians = fov_x;
+    rig.width = rig.height = size;
+    rig.target = target;
+    for (const Camera& camera : orbit_cameras(rig)) {
+      DatasetView view;
+      view.camera = camera;
+      view.image = Image(size, size, 3, 0.5f);
+      view.frame_background_share = transparent ? 1.0f : 0.0f;
+      dataset.train.push_back(view);
+    }
+  }
+  return dataset;
 }
 
 }  // namespace splat::test

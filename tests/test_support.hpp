@@ -6,6 +6,7 @@
 
 #include "splat/core/camera.hpp"
 #include "splat/core/image.hpp"
+#include "splat/data/dataset.hpp"
 #include "splat/data/transforms_json.hpp"
 #include "splat/eval/metrics.hpp"
 #include "splat/gaussians/gaussian_model.hpp"
@@ -29,6 +30,11 @@ ConformanceScene load_conformance(int size);
 void write_text(const std::filesystem::path& file, const std::string& text);
 
 // A camera at `distance` on the -z axis looking at the origin (OpenCV axes), square image.
+// Twenty training views round `target` (two orbits of ten, at elevations 0.15 and 0.6 rad,
+// `radius` away), grey `size`² images, with the frame showing only the background
+// (`transparent`) or none of it.
+Dataset orbit_dataset(const glm::vec3& target, float radius, float fov_x, int size, bool transparent);
+
 Camera looking_at_origin(int width, int height, float distance = 4.0f, float fov_x = 0.8f);
 
 // `count` Gaussians with random parameters in a cube of half-size `extent` around the

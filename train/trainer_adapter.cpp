@@ -6,6 +6,7 @@
 #include "splat/data/orbit_cameras.hpp"
 #include "splat/gaussians/ply_io.hpp"
 #include "splat/nerf/nerf_file.hpp"
+#include "splat/train/nerf_scene_space.hpp"
 #include "splat/train/nerf_trainer.hpp"
 
 namespace splat::cli {
@@ -131,19 +132,13 @@ class NerfAdapter final : public DelegatingAdapter<NerfTrainer, NerfTrainingConf
   }
 };
 
-// Where the NeRF samples: the bounds of the dataset's point cloud, 10% wider, when it has
-// one (COLMAP); otherwise the configured box (NeRF-synthetic scenes sit in [−1.5, 1.5]³).
-NerfTrainingConfig with_scene_box(NerfTrainingConfig config, const Dataset& dataset) {
-  if (!dataset.points || dataset.points->size() == 0) return config;
-  glm::vec3 lo(INFINITY), hi(-INFINITY);
-  const auto& p = dataset.points->positions;
-  for (std::size_t i = 0; i + 2 < p.size(); i += 3) {
-    const glm::vec3 q(p[i], p[i + 1], p[i + 2]);
-    lo = glm::min(lo, q);
-    hi = glm::max(hi, q);
-  }
-  const glm::vec3 margin = 0.05f * (hi - lo) + 1e-3f;
-  config.model.box = {lo - margin, hi + margin};
+// Where the NeRF samples follows the data (nerf_scene_space.hpp), unless the config gives a
+// box; the configured box is also the fallback when the data does not say.
+NerfTrainingConfig with_scene_space(NerfTrainingConfig config, const Dataset& dataset) {
+  if (!config.box_from_data) return config;
+  const SceneSpace space = scene_space_from_data(dataset, config.model.box);
+  config.model.box = space.box;
+  config.model.unbounded = space.unbounded;
   return config;
 }
 
@@ -151,7 +146,7 @@ NerfTrainingConfig with_scene_box(NerfTrainingConfig config, const Dataset& data
 
 std::unique_ptr<TrainerAdapter> make_trainer(const TrainCommandOptions& options, const Dataset& dataset) {
   if (options.method == "nerf")
-    return std::make_unique<NerfAdapter>(dataset, with_scene_box(options.nerf_config, dataset));
+    return std::make_unique<NerfAdapter>(dataset, with_scene_space(options.nerf_config, dataset));
   return std::make_unique<SplatAdapter>(dataset, options.config);
 }
 

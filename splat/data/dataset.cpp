@@ -131,4 +131,16 @@ float frame_background_share(const Image& image, const float background[3]) {
   return float(plain) / float(frame);
 }
 
+bool background_left_out(const std::vector<DatasetView>& views) {
+  double share = 0;
+  for (const DatasetView& view : views) share += view.frame_background_share;
+  return !views.empty() && share >= 0.5 * double(views.size());
+}
+
+std::vector<Camera> cameras_of(const std::vector<DatasetView>& views) {
+  std::vector<Camera> cameras;
+  for (const DatasetView& view : views) cameras.push_back(view.camera);
+  return cameras;
+}
+
 }  // namespace splat

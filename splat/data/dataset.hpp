@@ -56,4 +56,12 @@ Dataset load_dataset(const std::filesystem::path& folder, const DatasetOptions& 
 // the background when every channel is within half an 8-bit level of it.
 float frame_background_share(const Image& image, const float background[3]);
 
+// Whether `views` leave the background out: on average at least half of their frames show
+// the plain colour they were composited onto (an object on its own, with nothing to draw
+// around it), rather than scene that reaches the frame. Where a scene ends follows from it.
+bool background_left_out(const std::vector<DatasetView>& views);
+
+// The cameras of `views`, in order.
+std::vector<Camera> cameras_of(const std::vector<DatasetView>& views);
+
 }  // namespace splat

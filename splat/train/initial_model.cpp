@@ -15,21 +15,6 @@
 namespace splat {
 namespace {
 
-std::vector<Camera> cameras_of(const std::vector<DatasetView>& views) {
-  std::vector<Camera> cameras;
-  for (const DatasetView& view : views) cameras.push_back(view.camera);
-  return cameras;
-}
-
-// Whether the training images leave the background out: on average at least half of their
-// frames show the plain colour they were composited onto (an object on its own, with
-// nothing to draw around it), rather than scene that reaches the frame.
-bool background_left_out(const std::vector<DatasetView>& views) {
-  double share = 0;
-  for (const DatasetView& view : views) share += view.frame_background_share;
-  return share >= 0.5 * double(views.size());
-}
-
 glm::vec3 mean_centre(const std::vector<Camera>& cameras) {
   glm::vec3 mean(0.0f);
   for (const Camera& camera : cameras) mean += camera.center_in_world() / float(cameras.size());

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstring>
 #include <cmath>
+#include <optional>
 #include <fstream>
 #include <sstream>
 
@@ -51,11 +52,12 @@ nlohmann::json to_json(const NerfTrainingConfig& c) {
           {"occupancy_warmup", c.occupancy_warmup}, {"occupancy_interval", c.occupancy_interval},
           {"occupancy_cells_per_update", c.occupancy_cells_per_update},
           {"test_interval", c.test_interval}, {"checkpoint_interval", c.checkpoint_interval},
-          {"model", nerf_settings_json(c.model)}};
+          {"box_from_data", c.box_from_data}, {"model", nerf_settings_json(c.model)}};
 }
 
 void from_json(const nlohmann::json& j, NerfTrainingConfig& c) {
   if (!j.is_object()) throw ArgumentError("the NeRF config must be a JSON object");
+  std::optional<bool> box_from_data;  // said outright, it wins over a box in "model"
   for (const auto& [key, value] : j.items()) {
     try {
       if (key == "method") {
@@ -78,7 +80,10 @@ void from_json(const nlohmann::json& j, NerfTrainingConfig& c) {
       else if (key == "occupancy_cells_per_update") c.occupancy_cells_per_update = value.get<std::size_t>();
       else if (key == "test_interval") c.test_interval = value.get<int>();
       else if (key == "checkpoint_interval") c.checkpoint_interval = value.get<int>();
+      else if (key == "box_from_data") box_from_data = value.get<bool>();
       else if (key == "model") {
+        if (value.is_object() && (value.contains("box_min") || value.contains("box_max") || value.contains("unbounded")))
+          c.box_from_data = false;
         nlohmann::json merged = nerf_settings_json(c.model);
         merged.merge_patch(value);
         c.model = nerf_settings_from_json(merged);
@@ -89,6 +94,7 @@ void from_json(const nlohmann::json& j, NerfTrainingConfig& c) {
       throw ArgumentError("NeRF setting \"" + key + "\": " + e.what());
     }
   }
+  if (box_from_data) c.box_from_data = *box_from_data;
   if (!std::isfinite(c.density_bias_init)) throw ArgumentError("density_bias_init must be finite");
   if (c.rays_per_batch < 1 || c.iterations < 1 || c.occupancy_interval < 1)
     throw ArgumentError("rays_per_batch, iterations and occupancy_interval must be >= 1");

@@ -50,6 +50,11 @@ struct NerfTrainingConfig {
   std::size_t occupancy_cells_per_update = 1 << 16;
   int test_interval = 2000;       // iterations between test evaluations (0 = end only)
   int checkpoint_interval = 5000;  // iterations between checkpoints (0 = none)
+  // Where rays sample follows the dataset (the cameras, or the point cloud:
+  // nerf_scene_space.hpp) rather than model.box. A config that sets the model's box_min,
+  // box_max or unbounded turns this off (an explicit box is kept as given) unless it also
+  // says box_from_data, as the config.json a run writes does.
+  bool box_from_data = true;
   NerfSettings model;
 };
 

@@ -12,31 +12,12 @@
 #include "splat/core/error.hpp"
 #include "splat/data/orbit_cameras.hpp"
 #include "splat/gaussians/initialization.hpp"
+#include "test_support.hpp"
 
 namespace splat {
 namespace {
 
-// An orbit of `count` cameras (two elevations) round `target`, grey images.
-Dataset orbit_dataset(const glm::vec3& target, float radius, float fov_x, int size, bool transparent) {
-  Dataset dataset;
-  for (float elevation : {0.15f, 0.6f}) {
-    OrbitRig rig;
-    rig.count = 10;
-    rig.radius = radius;
-    rig.elevation_radians = elevation;
-    rig.fov_x_radians = fov_x;
-    rig.width = rig.height = size;
-    rig.target = target;
-    for (const Camera& camera : orbit_cameras(rig)) {
-      DatasetView view;
-      view.camera = camera;
-      view.image = Image(size, size, 3, 0.5f);
-      view.frame_background_share = transparent ? 1.0f : 0.0f;
-      dataset.train.push_back(view);
-    }
-  }
-  return dataset;
-}
+using test::orbit_dataset;
 
 SplatTrainingConfig placed_by_cameras(std::size_t points) {
   SplatTrainingConfig config = splat_training_preset("compact");

@@ -71,5 +71,26 @@ TEST(NerfTrainer, RejectsANonFiniteDensityBias) {
   EXPECT_THROW(from_json(nlohmann::json{{"density_bias_init", nullptr}}, config), ArgumentError);
 }
 
+TEST(NerfTrainer, AConfiguredBoxIsKeptAndOtherwiseTheDataPlacesIt) {
+  NerfTrainingConfig config;
+  EXPECT_TRUE(config.box_from_data);
+  from_json(nlohmann::json{{"model", {{"coarse_samples", 32}}}}, config);
+  EXPECT_TRUE(config.box_from_data);
+  from_json(nlohmann::json{{"model", {{"box_min", {-3, -3, -3}}, {"box_max", {3, 3, 3}}}}}, config);
+  EXPECT_FALSE(config.box_from_data);
+  EXPECT_EQ(config.model.box.hi, glm::vec3(3.0f));
+  NerfTrainingConfig unbounded;
+  from_json(nlohmann::json{{"model", {{"unbounded", true}}}}, unbounded);
+  EXPECT_FALSE(unbounded.box_from_data);
+  EXPECT_TRUE(unbounded.model.unbounded);
+  // A written config.json reads back the same, either way.
+  for (bool from_data : {false, true}) {
+    config.box_from_data = from_data;
+    NerfTrainingConfig round_trip;
+    from_json(to_json(config), round_trip);
+    EXPECT_EQ(round_trip.box_from_data, from_data);
+  }
+}
+
 }  // namespace
 }  // namespace splat
