@@ -23,7 +23,7 @@ ProgressReporter::ProgressReporter(bool interactive, double plain_interval_secon
     : interactive_(interactive), plain_interval_(plain_interval_seconds),
       last_print_(std::chrono::steady_clock::now() - std::chrono::hours(1)) {}
 
-std::string ProgressReporter::format(const ProgressSnapshot& s) const {
+std::string progress_line(const ProgressSnapshot& s) {
   // Whichever limit comes first sets the estimate.
   double eta = s.iterations_per_second > 0
                    ? (s.total_iterations - s.iteration) / s.iterations_per_second
@@ -37,8 +37,17 @@ std::string ProgressReporter::format(const ProgressSnapshot& s) const {
   // Done: the share of whichever limit is nearer.
   double done = double(s.iteration) / std::max(1, s.total_iterations);
   if (s.max_seconds > 0) done = std::max(done, std::min(1.0, s.elapsed_seconds / s.max_seconds));
-  std::snprintf(buffer, sizeof(buffer), "iter %d/%d (%3.0f%%) | %.2f it/s | loss %.4f%s%s | %s | %s elapsed | ETA %s",
-                s.iteration, s.total_iterations, 100.0 * done,
+  // The iteration count is shown out of its limit only while that limit may end the run: a
+  // run that stops when its time is up (the NeRF under a budget) shows how far it got.
+  const bool by_time = s.max_seconds > 0 && (s.max_seconds - s.elapsed_seconds) <
+                                                (s.total_iterations - s.iteration) / std::max(1e-9, s.iterations_per_second);
+  char iteration[48];
+  if (by_time)
+    std::snprintf(iteration, sizeof(iteration), "%d", s.iteration);
+  else
+    std::snprintf(iteration, sizeof(iteration), "%d/%d", s.iteration, s.total_iterations);
+  std::snprintf(buffer, sizeof(buffer), "iter %s (%3.0f%%) | %.2f it/s | loss %.4f%s%s | %s | %s elapsed | ETA %s",
+                iteration, 100.0 * done,
                 s.iterations_per_second, s.loss, psnr, test, s.model_size.c_str(),
                 format_duration(s.elapsed_seconds).c_str(), format_duration(eta).c_str());
   return buffer;
@@ -49,11 +58,11 @@ void ProgressReporter::update(const ProgressSnapshot& s, bool force) {
   const double since = std::chrono::duration<double>(now - last_print_).count();
   if (interactive_) {
     if (!force && since < 0.2) return;  // redraw at most five times a second
-    std::printf("\r\033[K%s", format(s).c_str());
+    std::printf("\r\033[K%s", progress_line(s).c_str());
     bar_drawn_ = true;
   } else {
     if (!force && since < plain_interval_) return;
-    std::printf("%s\n", format(s).c_str());
+    std::printf("%s\n", progress_line(s).c_str());
   }
   std::fflush(stdout);
   last_print_ = now;

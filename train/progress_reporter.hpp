@@ -27,12 +27,15 @@ class ProgressReporter {
   void finish();
 
  private:
-  std::string format(const ProgressSnapshot& s) const;
   bool interactive_;
   double plain_interval_;
   std::chrono::steady_clock::time_point last_print_;
   bool bar_drawn_ = false;
 };
+
+// The progress line: iteration, share done of the nearer limit, speed, loss, model size,
+// elapsed time and the estimate of what is left.
+std::string progress_line(const ProgressSnapshot& s);
 
 // "1h02m03s", "4m05s", "12s".
 std::string format_duration(double seconds);
