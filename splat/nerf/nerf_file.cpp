@@ -68,7 +68,7 @@ nlohmann::json nerf_settings_json(const NerfSettings& s) {
           {"box_min", {s.box.lo.x, s.box.lo.y, s.box.lo.z}},
           {"box_max", {s.box.hi.x, s.box.hi.y, s.box.hi.z}}, {"unbounded", s.unbounded},
           {"near", s.near}, {"occupancy_resolution", s.occupancy_resolution},
-          {"occupancy_threshold", s.occupancy_threshold}};
+          {"occupancy_optical_thickness", s.occupancy_optical_thickness}};
 }
 
 NerfSettings nerf_settings_from_json(const nlohmann::json& j) {
@@ -83,7 +83,11 @@ NerfSettings nerf_settings_from_json(const nlohmann::json& j) {
   s.unbounded = j.value("unbounded", false);  // absent in files from before unbounded scenes
   s.near = j.at("near").get<float>();
   s.occupancy_resolution = j.at("occupancy_resolution").get<int>();
-  s.occupancy_threshold = j.at("occupancy_threshold").get<float>();
+  // Files and configs from before the optical thickness gave the density threshold itself.
+  if (j.contains("occupancy_threshold"))
+    s.occupancy_optical_thickness = j.at("occupancy_threshold").get<float>() * s.coarse_step();
+  else
+    s.occupancy_optical_thickness = j.at("occupancy_optical_thickness").get<float>();
   if (s.coarse_samples < 1 || s.coarse_samples > 4096 || s.fine_samples < 0 || s.fine_samples > 4096)
     throw ArgumentError("sample counts must be in 1..4096 (coarse) and 0..4096 (fine)");
   return s;
