@@ -141,7 +141,8 @@ MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, Ev
   j["train_seconds"] = trained_seconds;
   j["eval_seconds"] = result.score_seconds;
   j["scoring"] = {{"share_limit", kScoreShare},
-                  {"share", result.score_seconds / std::max(1e-9, trained_seconds)},
+                  // during training, as the limit is; the final score is extra
+                  {"share", (result.score_seconds - result.final_score_seconds) / std::max(1e-9, trained_seconds)},
                   {"final_score_seconds", result.final_score_seconds},
                   {"skipped_scores", result.skipped_scores}};
   j["stopped_by"] = stop_reason_name(result.stopped_by);
