@@ -137,6 +137,12 @@ bool background_left_out(const std::vector<DatasetView>& views) {
   return !views.empty() && share >= 0.5 * double(views.size());
 }
 
+glm::vec3 mean_camera_centre(const std::vector<DatasetView>& views) {
+  glm::vec3 mean(0.0f);
+  for (const DatasetView& view : views) mean += view.camera.center_in_world() / float(views.size());
+  return mean;
+}
+
 std::vector<Camera> cameras_of(const std::vector<DatasetView>& views) {
   std::vector<Camera> cameras;
   for (const DatasetView& view : views) cameras.push_back(view.camera);

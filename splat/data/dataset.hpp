@@ -61,6 +61,9 @@ float frame_background_share(const Image& image, const float background[3]);
 // around it), rather than scene that reaches the frame. Where a scene ends follows from it.
 bool background_left_out(const std::vector<DatasetView>& views);
 
+// The mean of the training cameras' centres (the middle of a capture around a scene).
+glm::vec3 mean_camera_centre(const std::vector<DatasetView>& views);
+
 // The cameras of `views`, in order.
 std::vector<Camera> cameras_of(const std::vector<DatasetView>& views);
 

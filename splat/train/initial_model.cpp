@@ -15,12 +15,6 @@
 namespace splat {
 namespace {
 
-glm::vec3 mean_centre(const std::vector<Camera>& cameras) {
-  glm::vec3 mean(0.0f);
-  for (const Camera& camera : cameras) mean += camera.center_in_world() / float(cameras.size());
-  return mean;
-}
-
 void append(PointCloud& to, const PointCloud& from) {
   to.positions.insert(to.positions.end(), from.positions.begin(), from.positions.end());
   to.colors.insert(to.colors.end(), from.colors.begin(), from.colors.end());
@@ -121,7 +115,7 @@ GaussianModel initial_model(const Dataset& dataset, const SplatTrainingConfig& c
     return model;
   }
   if (rig) return frusta_model(dataset, config, count, rig->focus, rig->distance, r);
-  return frusta_model(dataset, config, count, mean_centre(cameras), dataset.scene_extent, r);
+  return frusta_model(dataset, config, count, mean_camera_centre(dataset.train), dataset.scene_extent, r);
 }
 
 }  // namespace splat

@@ -28,9 +28,7 @@ glm::vec3 scene_centre(const Dataset& dataset) {
     }
     return median;
   }
-  glm::vec3 mean(0.0f);
-  for (const DatasetView& view : dataset.train) mean += view.camera.center_in_world() / float(dataset.train.size());
-  return mean;
+  return mean_camera_centre(dataset.train);
 }
 
 using training::all_finite;
