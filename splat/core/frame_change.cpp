@@ -50,6 +50,15 @@ glm::dmat3 nearest_rotation(const Eigen::Matrix3d& m, Eigen::Vector3d* singular_
 
 }  // namespace
 
+FrameChange FrameChange::inverse() const {
+  // x_old = Qᵀ·(x_new − d)/s.
+  FrameChange undo;
+  undo.scale = 1.0 / scale;
+  undo.rotation = glm::transpose(rotation);
+  undo.translation = -(undo.rotation * translation) / scale;
+  return undo;
+}
+
 Camera FrameChange::applied_to(const Camera& camera) const {
   // x_cam = R·(x_old − c) and x_old = Qᵀ·(x_new − d)/s, so in the new frame the camera turns
   // by R·Qᵀ and stands at s·Q·c + d; the factor 1/s scales depth and offsets alike.

@@ -22,6 +22,8 @@ struct FrameChange {
   // `camera` (posed in the old frame) posed in the new one: it sees the moved scene as it saw
   // the old one (a scaled scene at a scaled distance projects alike), intrinsics unchanged.
   Camera applied_to(const Camera& camera) const;
+  // The similarity that undoes this one.
+  FrameChange inverse() const;
 };
 
 // The similarity carrying `recorded[i]` to `refined[i]`. Its rotation is the chordal mean of

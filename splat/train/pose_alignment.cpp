@@ -4,7 +4,10 @@
 #include <span>
 #include <utility>
 
+#include <glm/gtc/quaternion.hpp>
+
 #include "splat/core/error.hpp"
+#include "splat/core/frame_change.hpp"
 #include "splat/optim/photometric_loss.hpp"
 #include "splat/raster/projection_math.hpp"
 
@@ -43,6 +46,30 @@ void PoseRefiner::set_correction(std::size_t view, const PoseCorrection& correct
   const std::span<float> p = adam_.parameters(view);
   for (int a = 0; a < kRotationValues; ++a) p[a] = correction.rotation[a];
   for (int a = 0; a < kTranslationValues; ++a) p[kRotationValues + a] = correction.translation[a];
+}
+
+PoseCorrection correction_between(const Camera& from, const Camera& to, float pivot_depth) {
+  // to = r·from (rotation) and t_to = r·(t_from − p) + p + τ (apply_pose_correction).
+  const glm::dmat3 r = glm::dmat3(to.camera_from_world_rotation) * glm::transpose(glm::dmat3(from.camera_from_world_rotation));
+  const glm::dvec3 pivot(0.0, 0.0, pivot_depth);
+  const glm::dvec3 tau = glm::dvec3(to.camera_from_world_translation) -
+                         r * (glm::dvec3(from.camera_from_world_translation) - pivot) - pivot;
+  glm::dquat q = glm::quat_cast(r);
+  if (q.w < 0) q = -q;  // the same turn; near the identity this keeps w ≈ +1 as Adam had it
+  PoseCorrection correction;
+  correction.rotation = glm::vec4(float(q.w), float(q.x), float(q.y), float(q.z));
+  correction.translation = glm::vec3(tau);
+  correction.pivot_depth = pivot_depth;
+  return correction;
+}
+
+void PoseRefiner::hold_frame(const std::vector<Camera>& recorded) {
+  if (recorded.size() != views()) throw ArgumentError("pose corrections: a recorded camera per view is needed");
+  std::vector<Camera> corrected;
+  for (std::size_t v = 0; v < views(); ++v) corrected.push_back(camera(v, recorded[v]));
+  const FrameChange undo = fit_frame_change(recorded, corrected).inverse();
+  for (std::size_t v = 0; v < views(); ++v)
+    set_correction(v, correction_between(recorded[v], undo.applied_to(corrected[v]), pivot_depths_[v]));
 }
 
 void PoseRefiner::step(std::size_t view, const Camera& base, const CameraPoseGradient& gradient,

@@ -27,6 +27,9 @@ struct PoseCorrection {
   Camera applied_to(const Camera& camera) const;
 };
 
+// The correction about `pivot_depth` that takes `from`'s pose to `to`'s.
+PoseCorrection correction_between(const Camera& from, const Camera& to, float pivot_depth);
+
 struct PoseLearningRates {
   float rotation = 1e-3f;     // Adam's step on the quaternion's components
   float translation = 1e-3f;  // Adam's step on τ, in units of the scene extent
@@ -49,6 +52,12 @@ class PoseRefiner {
   // Starts view `view` from `correction`'s rotation and translation (its pivot and Adam state
   // unchanged).
   void set_correction(std::size_t view, const PoseCorrection& correction);
+
+  // Takes out of the corrections the similarity they share (fit_frame_change between
+  // `recorded`, every view's recorded camera, and the corrected ones), leaving each view's
+  // own. A scene and its poses are only defined up to a similarity; left free, the frame
+  // drifts with the noise of the poses' gradients, and the model has to follow it.
+  void hold_frame(const std::vector<Camera>& recorded);
 
   // One Adam step of view `view`'s correction, from ∂L/∂pose of a render with camera(view, base).
   void step(std::size_t view, const Camera& base, const CameraPoseGradient& gradient,

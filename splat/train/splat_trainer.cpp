@@ -79,6 +79,7 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
     if (config_.test_pose_alignment_steps < 0) throw ArgumentError("test_pose_alignment_steps must be >= 0");
     scene_centre_ = scene_centre(dataset);
     pose_refiner_ = new_pose_refiner();
+    for (const DatasetView& training_view : dataset_.train) recorded_training_cameras_.push_back(training_view.camera);
   }
   if (config_.exposure_compensation) {
     if (!(config_.exposure_lr >= 0.0f && std::isfinite(config_.exposure_lr)))
@@ -215,7 +216,10 @@ StepResult SplatTrainer::step() {
     adam_step(model_, grads_.params, adam_, lr, {}, active);
     if (far_steps_.active()) scale_far_steps(model_.means, means_before_step_, far_steps_);
   }
-  if (grads_.with_camera_pose) pose_refiner_.step(view, recorded, grads_.camera_pose, pose_learning_rates());
+  if (grads_.with_camera_pose) {
+    pose_refiner_.step(view, recorded, grads_.camera_pose, pose_learning_rates());
+    if (config_.pose_hold_frame) pose_refiner_.hold_frame(recorded_training_cameras_);
+  }
   strategy_->step_post_optimizer(iteration, state, lr.means);
   // The cheap groups every iteration; SH coefficients (most of the data) less often: a NaN
   // there shows in the next loss anyway.
@@ -276,9 +280,8 @@ Camera SplatTrainer::scoring_camera(const DatasetView& view) const {
   // Training moved the frame as a whole (a small turn, shift and scale): the view's recorded
   // pose is carried into the model's frame by the similarity the training views' poses
   // moved by, and the alignment then corrects what is the view's own.
-  std::vector<Camera> recorded;
-  for (const DatasetView& training_view : dataset_.train) recorded.push_back(training_view.camera);
-  const Camera start_camera = fit_frame_change(recorded, training_cameras()).applied_to(view.camera);
+  const Camera start_camera =
+      fit_frame_change(recorded_training_cameras_, training_cameras()).applied_to(view.camera);
   PoseAlignmentSettings alignment;
   alignment.steps = config_.test_pose_alignment_steps;
   alignment.lr = {config_.pose_rotation_lr, config_.pose_translation_lr};

@@ -157,6 +157,7 @@ class SplatTrainer {
   std::vector<std::vector<Image>> reduced_images_;  // [divisor][view], empty until needed
   glm::vec3 scene_centre_{0.0f};                   // the point cloud's median, else the cameras' mean
   PoseRefiner pose_refiner_;                        // [train view] under refine_poses
+  std::vector<Camera> recorded_training_cameras_;   // [train view] under refine_poses
   ExposureCompensation exposure_;                   // [train view] under exposure_compensation
   Image compensated_;                               // the render through the view's map
 };

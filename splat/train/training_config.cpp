@@ -85,6 +85,7 @@ void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
   v("pose_lr_decay_until", c.pose_lr_decay_until);
   v("pose_pivot_at_scene", c.pose_pivot_at_scene);
   v("pose_adam_beta1", c.pose_adam_beta1);
+  v("pose_hold_frame", c.pose_hold_frame);
   v("exposure_compensation", c.exposure_compensation);
   v("exposure_from", c.exposure_from);
   v("exposure_lr", c.exposure_lr);

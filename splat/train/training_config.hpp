@@ -109,6 +109,10 @@ struct SplatTrainingConfig {
   // that view is trained on; on good poses its gradient is mostly noise, which a longer
   // average (closer to 1) cancels, while on bad poses it points the same way every time.
   float pose_adam_beta1 = 0.9f;
+  // After every pose step, take out of the corrections the similarity they share
+  // (PoseRefiner::hold_frame), so the frame stays the recorded poses' and the model need not
+  // follow a drifting one.
+  bool pose_hold_frame = false;
   // 100 rather than 30: on lego400's refined models, 30 steps from the recorded poses left
   // 0.3–0.6 dB that 100 recovered, and 300 add under 0.1 (bench/README.md, issue 15).
   int test_pose_alignment_steps = 100;

@@ -119,6 +119,17 @@ TEST(FrameChange, PerViewErrorsAverageOut) {
   EXPECT_NEAR(found.scale, 1.3, 1e-4);
 }
 
+TEST(FrameChange, InverseUndoesIt) {
+  const std::vector<Camera> cameras = random_cameras(6, 9);
+  const std::vector<Camera> back = moved(moved(cameras, known_change()), known_change().inverse());
+  for (std::size_t i = 0; i < cameras.size(); ++i) {
+    EXPECT_LT(glm::length(back[i].center_in_world() - cameras[i].center_in_world()), 1e-4f);
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r)
+        EXPECT_NEAR(back[i].camera_from_world_rotation[c][r], cameras[i].camera_from_world_rotation[c][r], 1e-5);
+  }
+}
+
 TEST(FrameChange, PointSimilarityRecoversAKnownOne) {
   const FrameChange truth = known_change();
   std::vector<glm::dvec3> from, to;

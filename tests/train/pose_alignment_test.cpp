@@ -7,7 +7,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
+#include <glm/gtc/quaternion.hpp>
+
+#include "splat/core/frame_change.hpp"
 #include "splat/raster/projection_math.hpp"
 #include "test_support.hpp"
 
@@ -102,6 +106,60 @@ TEST(PoseRefiner, ALongerFirstMomentAverageDampsAFlippingGradient) {
   EXPECT_LT(path_length(0.9, true), 0.25 * path_length(0.0, true));
   EXPECT_NEAR(path_length(0.9, false), path_length(0.0, false), 0.05 * path_length(0.0, false));
   EXPECT_NEAR(path_length(0.0, false), 40 * 1e-3, 1e-4);
+}
+
+// Twelve cameras round the origin, each at its own turn and height.
+std::vector<Camera> ring_of_cameras() {
+  std::vector<Camera> cameras;
+  for (int i = 0; i < 12; ++i) {
+    FrameChange orbit;
+    orbit.rotation = glm::mat3_cast(glm::angleAxis(glm::radians(30.0 * i), glm::dvec3(0, 1, 0)) *
+                                    glm::angleAxis(glm::radians(10.0 * (i % 3) - 10.0), glm::dvec3(1, 0, 0)));
+    cameras.push_back(orbit.applied_to(test::looking_at_origin(64, 48, 3.0f, 0.8f)));
+  }
+  return cameras;
+}
+
+TEST(PoseRefiner, CorrectionBetweenTwoPosesIsTheCorrectionThatMadeThem) {
+  const Camera base = test::looking_at_origin(64, 48, 3.0f, 0.8f);
+  PoseCorrection made;
+  made.rotation = glm::vec4(0.999f, 0.02f, -0.03f, 0.01f);
+  made.translation = glm::vec3(0.05f, -0.02f, 0.03f);
+  made.pivot_depth = 3.0f;
+  const PoseCorrection found = correction_between(base, made.applied_to(base), 3.0f);
+  const glm::vec4 unit = made.rotation / glm::length(made.rotation);
+  for (int a = 0; a < 4; ++a) EXPECT_NEAR(found.rotation[a], unit[a], 1e-5);
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(found.translation[a], made.translation[a], 1e-5);
+}
+
+// A turn, shift and scale shared by every view's correction is the frame's drift, and
+// hold_frame takes it out; a correction of one view alone is that view's own, and stays.
+TEST(PoseRefiner, HoldFrameTakesOutTheSharedSimilarityOnly) {
+  const std::vector<Camera> recorded = ring_of_cameras();
+  FrameChange drift;
+  drift.scale = 1.01;
+  drift.rotation = glm::mat3_cast(glm::angleAxis(glm::radians(1.0), glm::normalize(glm::dvec3(0.2, 1, -0.3))));
+  drift.translation = {0.03, -0.02, 0.05};
+  PoseRefiner refiner(recorded.size(), 3.0f, std::vector<float>(recorded.size(), 3.0f));
+  for (std::size_t v = 0; v < recorded.size(); ++v)
+    refiner.set_correction(v, correction_between(recorded[v], drift.applied_to(recorded[v]), 3.0f));
+  refiner.hold_frame(recorded);
+  for (std::size_t v = 0; v < recorded.size(); ++v) {
+    const Camera held = refiner.camera(v, recorded[v]);
+    EXPECT_LT(angle_between_deg(held.camera_from_world_rotation, recorded[v].camera_from_world_rotation), 1e-3);
+    EXPECT_LT(glm::length(held.center_in_world() - recorded[v].center_in_world()), 1e-4);
+  }
+
+  PoseRefiner one_view(recorded.size(), 3.0f, std::vector<float>(recorded.size(), 3.0f));
+  PoseCorrection own;
+  own.rotation = glm::vec4(std::cos(glm::radians(0.5f)), std::sin(glm::radians(0.5f)), 0.0f, 0.0f);  // 1°
+  own.pivot_depth = 3.0f;
+  one_view.set_correction(0, own);
+  one_view.hold_frame(recorded);
+  const double own_angle =
+      angle_between_deg(one_view.camera(0, recorded[0]).camera_from_world_rotation, recorded[0].camera_from_world_rotation);
+  EXPECT_GT(own_angle, 0.85);  // the shared part is a twelfth of it at most
+  EXPECT_LT(own_angle, 1.0 + 1e-3);
 }
 
 }  // namespace
