@@ -115,7 +115,7 @@ NerfTrainer::NerfTrainer(const Dataset& dataset, const NerfTrainingConfig& confi
 float NerfTrainer::learning_rate() const {
   // Log-linear from lr_init to lr_final over the run, as the paper's exponential decay.
   double progress = std::min(1.0, double(iteration_) / double(std::max(1, config_.lr_decay_iterations)));
-  if (config_.schedule_follows_budget) progress = std::max(progress, std::min(1.0, time_budget_fraction_));
+  if (config_.schedule_follows_budget && config_.max_seconds > 0) progress = std::min(1.0, time_budget_fraction_);
   return float(std::exp(std::log(config_.lr_init) * (1 - progress) + std::log(config_.lr_final) * progress));
 }
 

@@ -54,16 +54,32 @@ TEST(NerfTrainer, UntrainedFieldIsNearlyTransparent) {
 TEST(NerfTrainer, LearningRateDecaysOverTheTimeBudget) {
   const Dataset dataset = small_dataset();
   NerfTrainingConfig config = small_config(-3.0f);
+  config.max_seconds = 60;
+  config.rays_per_batch = 64;
+  config.lr_decay_iterations = 2;
   NerfTrainer trainer(dataset, config);
   EXPECT_FLOAT_EQ(trainer.learning_rate(), float(config.lr_init));
   trainer.set_time_budget_fraction(0.5);  // halfway: the geometric mean of the two rates
-  EXPECT_NEAR(trainer.learning_rate(), std::sqrt(config.lr_init * config.lr_final), 1e-9);
+  const double halfway = std::sqrt(config.lr_init * config.lr_final);
+  EXPECT_NEAR(trainer.learning_rate(), halfway, 1e-9);
+  // Past lr_decay_iterations the budget still sets the pace: a run that makes more
+  // iterations than that horizon in its time keeps decaying to its end.
+  for (int i = 0; i < 3; ++i) trainer.step();
+  EXPECT_NEAR(trainer.learning_rate(), halfway, 1e-9);
   trainer.set_time_budget_fraction(1.0);
   EXPECT_NEAR(trainer.learning_rate(), config.lr_final, 1e-9);
-  config.schedule_follows_budget = false;
-  NerfTrainer by_iterations(dataset, config);
-  by_iterations.set_time_budget_fraction(1.0);
-  EXPECT_FLOAT_EQ(by_iterations.learning_rate(), float(config.lr_init));
+
+  // Without a budget, or with the schedule on iterations, the iterations set it.
+  for (const bool budget : {false, true}) {
+    NerfTrainingConfig by_iterations_config = config;
+    by_iterations_config.max_seconds = budget ? 60 : 0;
+    by_iterations_config.schedule_follows_budget = !budget;
+    NerfTrainer by_iterations(dataset, by_iterations_config);
+    by_iterations.set_time_budget_fraction(0.5);
+    EXPECT_FLOAT_EQ(by_iterations.learning_rate(), float(config.lr_init));
+    for (int i = 0; i < 3; ++i) by_iterations.step();
+    EXPECT_NEAR(by_iterations.learning_rate(), config.lr_final, 1e-9);
+  }
 }
 
 TEST(NerfTrainer, RejectsANonFiniteDensityBias) {
