@@ -79,7 +79,7 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
     if (config_.test_pose_alignment_steps < 0) throw ArgumentError("test_pose_alignment_steps must be >= 0");
     scene_centre_ = scene_centre(dataset);
     pose_refiner_ = new_pose_refiner();
-    for (const DatasetView& training_view : dataset_.train) recorded_training_cameras_.push_back(training_view.camera);
+    recorded_training_cameras_ = cameras_of(dataset_.train);
   }
   if (config_.exposure_compensation) {
     if (!(config_.exposure_lr >= 0.0f && std::isfinite(config_.exposure_lr)))

@@ -93,7 +93,7 @@ struct SplatTrainingConfig {
   // is the jitter and the drift of the frame, and on poses 1° off it is how fast they travel.
   // Turned about the scene (below), 10⁻³ decaying to 3 % takes lego400's poses from 1° / 1 %
   // to 0.06–0.07° / 0.07–0.08 % in 10 minutes. On clean poses it costs nothing at equal
-  // iterations, but about 0.1 dB in 10 minutes, since the jittering poses grow 3–7 % more
+  // iterations, but about 0.1 dB in 10 minutes, since the jittering poses grow 3–10 % more
   // Gaussians and so slow every iteration (bench/README.md, issue 15 fifth and sixth rounds).
   float pose_rotation_lr = 1e-3f;     // on the correction quaternion's components
   float pose_translation_lr = 1e-3f;  // on the translation, in units of the scene extent
