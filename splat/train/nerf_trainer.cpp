@@ -130,8 +130,8 @@ void NerfTrainer::update_occupancy() {
     for (std::size_t i = 0; i < n; ++i)
       for (int a = 0; a < 3; ++a) density_positions_[3 * i + a] = points[i][a];
     density_max_.resize(n);
-    model_.coarse.forward_density(density_positions_, density_max_, density_context_);
-    model_.fine.forward_density(density_positions_, density_sigma_, density_context_);
+    model_.coarse.forward_density(density_positions_, density_max_, coarse_density_context_);
+    model_.fine.forward_density(density_positions_, density_sigma_, fine_density_context_);
     for (std::size_t i = 0; i < n; ++i) sigmas[i] = std::max(density_max_[i], density_sigma_[i]);
   };
   OccupancyUpdateOptions options;

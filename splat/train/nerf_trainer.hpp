@@ -104,7 +104,9 @@ class NerfTrainer {
   NerfRenderer renderer_;
   std::vector<Ray> rays_;
   std::vector<float> targets_, v_coarse_, v_fine_, coarse_grad_, fine_grad_;
-  NerfMlpContext density_context_;
+  // One per network: a context sized for the other network's shape is rebuilt from scratch,
+  // and sharing one reallocated ~100 MB every grid update (8 % of a run in page faults).
+  NerfMlpContext coarse_density_context_, fine_density_context_;
   std::vector<float> density_positions_, density_sigma_, density_max_;
 };
 
