@@ -1,6 +1,6 @@
 #pragma once
 // splat-eval's work on one dataset, as one of three runs (eval_modes.hpp): the comparison of
-// the methods (eval_methods.hpp) under the same training-time budget and threads (DESIGN.md
+// the methods (eval_methods.hpp) under the same training-time budget and threads (docs/DESIGN.md
 // contract), the stability conditions, or a sweep of Gaussian budgets. Each ends by redrawing
 // the charts and report.html from every result file in --out.
 #include <filesystem>

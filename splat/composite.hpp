@@ -1,6 +1,6 @@
 #pragma once
 // The one front-to-back compositor shared by the Gaussian rasterizer and the NeRF
-// (DESIGN.md, "One compositor"):
+// (docs/DESIGN.md, "One compositor"):
 //   C = Σᵢ Tᵢ αᵢ cᵢ + T_N · bg,   Tᵢ = Πⱼ<ᵢ (1 − αⱼ),
 // with early termination: a sample that would drop T below kMinTransmittance is not
 // blended and ends the pixel (ray), exactly as the reference 3DGS rasterizer does.

@@ -1,6 +1,6 @@
 #pragma once
 // splat-train's work: load the data, train, report progress, and write model, metrics,
-// test renders and checkpoints (DESIGN.md contract).
+// test renders and checkpoints (docs/DESIGN.md contract).
 #include <filesystem>
 #include <optional>
 

@@ -1,6 +1,6 @@
 #pragma once
 // Writing outputs so that a failure never leaves a half-written file: write to a temporary
-// name in the same folder, then rename into place (DESIGN.md, "Errors").
+// name in the same folder, then rename into place (docs/DESIGN.md, "Errors").
 #include <filesystem>
 #include <functional>
 

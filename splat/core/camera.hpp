@@ -1,5 +1,5 @@
 #pragma once
-// Pinhole camera in the internal convention (DESIGN.md): a world-to-camera rigid
+// Pinhole camera in the internal convention (docs/DESIGN.md): a world-to-camera rigid
 // transform in OpenCV axes (x right, y down, z forward) plus intrinsics in pixels.
 // Pixel (i, j) covers [i, i+1] x [j, j+1]; its centre is at (i + 0.5, j + 0.5).
 #include <glm/glm.hpp>

@@ -1,6 +1,6 @@
 #pragma once
 // Typed exceptions thrown by the library. Command lines catch splat::Error, print
-// "error: <what()>" and exit with status 2 (DESIGN.md, "Errors").
+// "error: <what()>" and exit with status 2 (docs/DESIGN.md, "Errors").
 #include <filesystem>
 #include <stdexcept>
 #include <string>

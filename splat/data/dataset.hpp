@@ -1,6 +1,6 @@
 #pragma once
 // Training datasets: Blender / NeRF-synthetic folders and COLMAP folders, detected
-// automatically (DESIGN.md, "--data").
+// automatically (docs/DESIGN.md, "--data").
 #include <filesystem>
 #include <optional>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 // The Gaussian model as a structure of arrays. Parameters are stored raw, exactly as the
-// standard 3DGS PLY stores them; activations are applied on use (DESIGN.md):
+// standard 3DGS PLY stores them; activations are applied on use (docs/DESIGN.md):
 //   scale = exp(log_scale), opacity = sigmoid(opacity_logit), rotation = normalize(quat),
 //   colour = SH(dir) + 0.5 clamped at 0.
 #include <cstddef>

@@ -1,7 +1,7 @@
 #pragma once
 // Every clamp and threshold of the Gaussian rasterizer, shared by its forward and backward
 // passes and by the reference rasterizer. The values follow the official 3DGS rasterizer
-// so that models trained there render identically here (DESIGN.md, "Numerics").
+// so that models trained there render identically here (docs/DESIGN.md, "Numerics").
 
 namespace splat {
 

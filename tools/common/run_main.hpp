@@ -1,6 +1,6 @@
 #pragma once
 // Runs a command's body and turns any error into "error: ..." on stderr and exit status 2
-// (DESIGN.md, "Errors").
+// (docs/DESIGN.md, "Errors").
 #include <functional>
 
 namespace splat::cli {

@@ -1,6 +1,6 @@
 #pragma once
 // --threads N for every tool: oneTBB's worker count capped for as long as the returned
-// object lives. Results never depend on it (DESIGN.md); only the speed does.
+// object lives. Results never depend on it (docs/DESIGN.md); only the speed does.
 #include <memory>
 #include <tbb/global_control.h>
 

@@ -1,5 +1,5 @@
 #pragma once
-// splat-render: renders every frame of a transforms JSON to PNG (DESIGN.md contract).
+// splat-render: renders every frame of a transforms JSON to PNG (docs/DESIGN.md contract).
 #include <filesystem>
 #include <optional>
 #include <string>
