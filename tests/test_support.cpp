@@ -17,10 +17,16 @@ std::filesystem::path scratch_dir(const std::string& name) {
   return dir;
 }
 
-std::filesystem::path shared_dir() { return std::filesystem::path(SPLAT_SHARED_DIR); }
+std::filesystem::path conformance_dir() { return std::filesystem::path(SPLAT_TEST_DATA_DIR) / "conformance"; }
+
+std::filesystem::path benchmark_data_dir() { return std::filesystem::path(SPLAT_BENCHMARK_DATA_DIR); }
+
+bool have_benchmark_data(const std::string& dataset) {
+  return std::filesystem::is_directory(benchmark_data_dir() / dataset);
+}
 
 ConformanceScene load_conformance(int size) {
-  const auto dir = shared_dir() / "conformance";
+  const auto dir = conformance_dir();
   TransformsOptions options;
   options.width = options.height = size;
   return {read_ply(dir / "lego_subset50k.ply"), load_transforms(dir / "transforms_test.json", options)};

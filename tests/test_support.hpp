@@ -16,10 +16,21 @@ namespace splat::test {
 // A fresh empty folder under the build tree for one test (removed first if present).
 std::filesystem::path scratch_dir(const std::string& name);
 
-// The shared/ folder (conformance data, datasets).
-std::filesystem::path shared_dir();
+// testdata/conformance in the repository: the official rasterizer's images and gradients of
+// a real model (testdata/README.md).
+std::filesystem::path conformance_dir();
 
-// The shared 50k-Gaussian conformance model and its 13 test views at size x size pixels.
+// The benchmark datasets (lego400, lego400_colmap, ...) of ../shared/data beside the checkout.
+// They are not part of the repository, so the tests that check them skip without them
+// (SPLAT_SKIP_WITHOUT_BENCHMARK_DATA); CI has them.
+std::filesystem::path benchmark_data_dir();
+bool have_benchmark_data(const std::string& dataset);
+#define SPLAT_SKIP_WITHOUT_BENCHMARK_DATA(dataset)                                        \
+  if (!::splat::test::have_benchmark_data(dataset))                                       \
+  GTEST_SKIP() << "benchmark data " << (::splat::test::benchmark_data_dir() / (dataset)) \
+               << " is not beside the checkout"
+
+// The 50k-Gaussian conformance model and its 13 test views at size x size pixels.
 struct ConformanceScene {
   GaussianModel model;
   std::vector<CameraFrame> frames;

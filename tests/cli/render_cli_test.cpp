@@ -35,7 +35,7 @@ CommandResult run_render(const std::string& args, const std::filesystem::path& d
 }
 
 std::string conformance(const std::string& name) {
-  return (test::shared_dir() / "conformance" / name).string();
+  return (test::conformance_dir() / name).string();
 }
 
 TEST(RenderCli, RendersConformanceViewsAbove45Db) {
@@ -47,7 +47,7 @@ TEST(RenderCli, RendersConformanceViewsAbove45Db) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* name : {"r_0", "r_48", "r_96"}) {
     const Image ours = read_image(dir / "out" / (std::string(name) + ".png"));
-    const Image reference = read_image(test::shared_dir() / "conformance" / "reference" / (std::string(name) + ".png"));
+    const Image reference = read_image(test::conformance_dir() / "reference" / (std::string(name) + ".png"));
     EXPECT_GE(psnr(ours, reference), 45.0) << name;
   }
   int pngs = 0;

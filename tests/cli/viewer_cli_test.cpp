@@ -16,7 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string conformance(const std::string& name) { return (test::shared_dir() / "conformance" / name).string(); }
+std::string conformance(const std::string& name) { return (test::conformance_dir() / name).string(); }
 
 // A virtual display per command. ctest runs tests in parallel, and two xvfb-run -a started
 // at once can race for the same free server number, so each test searches from its own.

@@ -183,7 +183,8 @@ TEST(ImageIo, FloatExrRoundTripIsExact) {
 }
 
 TEST(ImageIo, ReadsLegoTrainingImageAsRgba400) {
-  const fs::path folder = test::shared_dir() / "data" / "lego400" / "train";
+  SPLAT_SKIP_WITHOUT_BENCHMARK_DATA("lego400");
+  const fs::path folder = test::benchmark_data_dir() / "lego400" / "train";
   ASSERT_TRUE(fs::is_directory(folder)) << folder;
   fs::path file;
   for (const auto& entry : fs::directory_iterator(folder))

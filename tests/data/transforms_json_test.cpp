@@ -23,7 +23,7 @@ namespace fs = std::filesystem;
 constexpr float kConformanceTanHalfFov = 0.36f;  // tan(0.6911112070083618 / 2)
 const std::string kIdentity = "[[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]";
 
-fs::path conformance_file() { return test::shared_dir() / "conformance" / "transforms_test.json"; }
+fs::path conformance_file() { return test::conformance_dir() / "transforms_test.json"; }
 
 // Writes `text` as `name` in a fresh folder for `test_name` and returns its path.
 fs::path write_json(const std::string& test_name, const std::string& name,
@@ -216,7 +216,8 @@ TEST(TransformsJson, NativeSizeFromTheFirstImage) {
 }
 
 TEST(TransformsJson, LegoTrainingSetTakesItsSizeFromImages) {
-  const auto frames = load_transforms(test::shared_dir() / "data" / "lego400" /
+  SPLAT_SKIP_WITHOUT_BENCHMARK_DATA("lego400");
+  const auto frames = load_transforms(test::benchmark_data_dir() / "lego400" /
                                       "transforms_train.json");
   ASSERT_EQ(frames.size(), 87u);
   EXPECT_EQ(frames[0].name, "r_1");

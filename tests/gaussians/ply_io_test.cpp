@@ -169,7 +169,7 @@ bool bitwise_equal(const std::vector<float>& a, const std::vector<float>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
-fs::path conformance_ply() { return test::shared_dir() / "conformance" / "lego_subset50k.ply"; }
+fs::path conformance_ply() { return test::conformance_dir() / "lego_subset50k.ply"; }
 
 // ---- Round trips and the official layout ------------------------------------------------
 

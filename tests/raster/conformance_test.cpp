@@ -1,4 +1,4 @@
-// Conformance with the official CUDA rasterizer (BENCHMARKS.md P2): our renders of the
+// Conformance with the official CUDA rasterizer (testdata/conformance/README.md): our renders of the
 // shared 50k-Gaussian lego model must reach PSNR >= 45 dB against its images, every view.
 #include <gtest/gtest.h>
 
@@ -16,7 +16,7 @@ namespace {
 constexpr double kConformancePsnrDb = 45.0;
 
 TEST(Conformance, EveryReferenceViewAbove45Db) {
-  const auto dir = test::shared_dir() / "conformance";
+  const auto dir = test::conformance_dir();
   const auto [model, frames] = test::load_conformance(400);
   ASSERT_EQ(frames.size(), 13u);
 

@@ -1,5 +1,5 @@
 // Gradient conformance with the official CUDA rasterizer + PyTorch autograd
-// (../shared/conformance/gradients): for view r_0 of the 50k-Gaussian lego model and
+// (testdata/conformance/gradients): for view r_0 of the 50k-Gaussian lego model and
 // L = Σ W·I: our unclamped image within 1e-4 of theirs at every pixel, L within 1e-4
 // (relative) and ∂L/∂θ per parameter group within 1e-3 (relative L2).
 #include <gtest/gtest.h>
@@ -23,7 +23,7 @@ std::vector<float> read_f32(const std::filesystem::path& file) {
 }
 
 TEST(GradientConformance, MatchesOfficialGradientsForViewR0) {
-  const auto dir = test::shared_dir() / "conformance";
+  const auto dir = test::conformance_dir();
   const auto [model, frames] = test::load_conformance(400);
   const Camera camera = frames.at(0).camera;
   const std::vector<float> weights = read_f32(dir / "gradients" / "W_r_0.f32");  // [3, H, W]

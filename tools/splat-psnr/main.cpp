@@ -1,6 +1,6 @@
 // splat-psnr A B [--bg R,G,B]: PSNR between two images, or between same-named PNGs of two
 // folders (one line per image, then the minimum and mean). Used for the conformance protocol
-// (P2): splat-psnr OUT ../shared/conformance/reference. With --bg, RGBA images (a dataset's
+// (P2): splat-psnr OUT testdata/conformance/reference. With --bg, RGBA images (a dataset's
 // test images) are composited onto that background first, as the trainers see them.
 #include <algorithm>
 #include <cstdio>
