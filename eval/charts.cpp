@@ -193,9 +193,9 @@ std::string chart_script(const std::vector<Chart>& charts) {
 
 std::vector<std::string> write_charts(const fs::path& out) {
   std::vector<Chart> charts;
-  if (auto results = read_json_if_present(out / "results.json")) add_results_charts(*results, charts);
-  if (auto sweep = read_json_if_present(out / "sweep.json")) add_sweep_charts(*sweep, charts);
-  if (auto stability = read_json_if_present(out / "stability.json")) add_stability_chart(*stability, charts);
+  with_result_file(out / "results.json", [&](const json& results) { add_results_charts(results, charts); });
+  with_result_file(out / "sweep.json", [&](const json& sweep) { add_sweep_charts(sweep, charts); });
+  with_result_file(out / "stability.json", [&](const json& stability) { add_stability_chart(stability, charts); });
   // gnuplot refuses a plot of nothing: no empty series (a NeRF on the Gaussians chart), and no
   // chart without a series (an older file without the figures).
   for (Chart& c : charts)
@@ -213,8 +213,12 @@ std::vector<std::string> write_charts(const fs::path& out) {
   }
   const std::string command = "cd " + shell_quoted(dir.string()) + " && gnuplot charts.gp > gnuplot.log 2>&1";
   const int status = std::system(command.c_str());
-  if (status != 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+  if (status != 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    // No half-drawn chart stays behind under its temporary name.
+    for (const Chart& c : charts)
+      for (const char* ext : {".png", ".svg"}) fs::remove(dir / (c.name + ".tmp" + ext));
     throw Error("gnuplot failed drawing the charts; its messages are in " + (dir / "gnuplot.log").string());
+  }
   fs::remove(dir / "gnuplot.log");
   std::vector<std::string> written;
   for (const Chart& c : charts)

@@ -210,21 +210,15 @@ fs::path write_report(const fs::path& out) {
           ".degraded{background:#ffe0b0}.diverged,.collapsed,.failed{background:#ffc0c0}.ok{background:#d8f5d0}"
           "img.grid{width:100%;image-rendering:pixelated}figure{margin:1em 0}</style></head><body>\n"
           "<h1>splat-eval report</h1>\n";
-  const auto results = read_json_if_present(out / "results.json");
-  const auto sweep = read_json_if_present(out / "sweep.json");
-  const auto stability = read_json_if_present(out / "stability.json");
-  if (results) comparison_section(html, out, *results);
-  if (sweep) sweep_section(html, out, *sweep);
-  if (stability) stability_section(html, out, *stability);
-  if (!results && !sweep && !stability) html << "<p>No results in this folder yet.</p>\n";
+  bool any = false;
+  with_result_file(out / "results.json", [&](const json& results) { comparison_section(html, out, results), any = true; });
+  with_result_file(out / "sweep.json", [&](const json& sweep) { sweep_section(html, out, sweep), any = true; });
+  with_result_file(out / "stability.json", [&](const json& stability) { stability_section(html, out, stability), any = true; });
+  if (!any) html << "<p>No results in this folder yet.</p>\n";
   html << "</body></html>\n";
 
   const fs::path file = out / "report.html";
-  write_atomically(file, [&](const fs::path& temp) {
-    std::ofstream stream(temp);
-    stream << html.str();
-    if (!stream) throw InputError(file, "cannot write the file");
-  });
+  write_stream_atomically(file, [&](std::ostream& stream) { stream << html.str(); });
   return file;
 }
 

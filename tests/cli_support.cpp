@@ -1,6 +1,8 @@
 #include "cli_support.hpp"
 
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <sys/wait.h>
@@ -27,6 +29,20 @@ CommandResult run_command(const std::string& command, const std::filesystem::pat
   r.out = read_file(out_file);
   r.err = read_file(err_file);
   return r;
+}
+
+CheckpointParts split_checkpoint(const std::string& bytes) {
+  std::uint64_t length = 0;
+  std::memcpy(&length, bytes.data() + 12, sizeof(length));
+  return {bytes.substr(0, 12), nlohmann::json::parse(bytes.substr(20, length)), bytes.substr(20 + length)};
+}
+
+std::string join_checkpoint(const CheckpointParts& parts) {
+  const std::string header = parts.header.dump();
+  const std::uint64_t length = header.size();
+  std::string bytes = parts.prefix;
+  bytes.append(reinterpret_cast<const char*>(&length), sizeof(length));
+  return bytes + header + parts.arrays;
 }
 
 std::string last_line(const std::string& text) {

@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 namespace splat::test {
 
 struct CommandResult {
@@ -23,5 +25,15 @@ std::string last_line(const std::string& text);
 // on white. What the trainer and splat-eval tests train on.
 void write_demo_dataset(const std::filesystem::path& dir, int train_views, int test_views, int size,
                         std::size_t gaussians);
+
+// A splat-train checkpoint in its parts, for tests that damage one:
+// "SPLATCKP" | u32 version | u64 header length | header JSON | arrays.
+struct CheckpointParts {
+  std::string prefix;  // magic and version
+  nlohmann::json header;
+  std::string arrays;
+};
+CheckpointParts split_checkpoint(const std::string& bytes);
+std::string join_checkpoint(const CheckpointParts& parts);
 
 }  // namespace splat::test

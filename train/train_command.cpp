@@ -38,11 +38,7 @@ std::size_t peak_memory_bytes() {
 }
 
 void write_json(const fs::path& file, const nlohmann::json& json) {
-  write_atomically(file, [&](const fs::path& temp) {
-    std::ofstream out(temp);
-    out << json.dump(1) << "\n";
-    if (!out) throw InputError(file, "cannot write the file");
-  });
+  write_stream_atomically(file, [&](std::ostream& out) { out << json.dump(1) << "\n"; });
 }
 
 fs::path checkpoint_file(const fs::path& resume) {

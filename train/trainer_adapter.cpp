@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 #include "splat/data/orbit_cameras.hpp"
 #include "splat/gaussians/ply_io.hpp"
@@ -17,12 +18,23 @@ namespace {
 template <class Trainer, class Config>
 class DelegatingAdapter : public TrainerAdapter {
  public:
-  DelegatingAdapter(const Dataset& dataset, const Config& config) : trainer_(dataset, config) {}
+  DelegatingAdapter(const Dataset& dataset, const Config& config) : trainer_(dataset, config) {
+    // SPLAT_FAULT_NAN_AT_ITERATION=N: a parameter becomes NaN after step N, which the
+    // divergence check then finds as it would a real blow-up (docs/DESIGN.md, "Errors").
+    if (const char* at = std::getenv("SPLAT_FAULT_NAN_AT_ITERATION")) fault_iteration_ = std::atoi(at);
+  }
   RunSchedule schedule() const override {
     const auto& c = trainer_.config();
     return {c.iterations, c.max_seconds, c.test_interval, c.checkpoint_interval};
   }
-  StepResult step() override { return trainer_.step(); }
+  StepResult step() override {
+    const StepResult result = trainer_.step();
+    if (trainer_.iteration() == fault_iteration_) {
+      trainer_.inject_non_finite_parameter();
+      trainer_.check_parameters_finite();
+    }
+    return result;
+  }
   void set_time_budget_fraction(double fraction) override { trainer_.set_time_budget_fraction(fraction); }
   Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) override {
     return trainer_.evaluate(views, renders);
@@ -35,6 +47,7 @@ class DelegatingAdapter : public TrainerAdapter {
 
  protected:
   Trainer trainer_;
+  int fault_iteration_ = -1;
 };
 
 class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingConfig> {

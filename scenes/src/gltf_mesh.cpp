@@ -1,12 +1,14 @@
 #include "gltf_mesh.hpp"
 
 #include <cmath>
+#include <fstream>
 #include <cstring>
 #include <string>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include "splat/core/error.hpp"
@@ -15,6 +17,32 @@ namespace splat::scenes {
 namespace {
 
 namespace fs = std::filesystem;
+
+// No coordinate, scale or transform entry of a glTF may exceed this in magnitude
+// (docs/DESIGN.md §4.8): beyond it the ray tracer's floats lose all precision.
+constexpr double kMaxGltfMagnitude = 1e6;
+
+bool usable_number(double v) { return std::abs(v) <= kMaxGltfMagnitude; }  // also false for NaN
+
+// The byte offset of an accessor's first element, after checking that `count` elements of
+// `element` bytes, `stride` apart, lie inside its buffer view and the view inside its buffer.
+// Every sum is checked before it is formed: offsets come from the file and may be anything.
+std::size_t checked_accessor_start(const fs::path& file, const tinygltf::Model& model,
+                                   const tinygltf::Accessor& acc, std::size_t element, const std::string& what) {
+  const tinygltf::BufferView& view = model.bufferViews[std::size_t(acc.bufferView)];
+  if (view.buffer < 0 || view.buffer >= int(model.buffers.size()))
+    throw InputError(file, what + ": bufferView without a valid buffer");
+  const std::size_t buffer_size = model.buffers[std::size_t(view.buffer)].data.size();
+  const int stride = acc.ByteStride(view);
+  const bool view_fits = view.byteOffset <= buffer_size && view.byteLength <= buffer_size - view.byteOffset;
+  const std::size_t view_size = view_fits ? view.byteLength : 0;
+  const bool fits = view_fits && stride > 0 && acc.byteOffset <= view_size &&
+                    (acc.count == 0 ||
+                     (acc.count - 1 <= (view_size - acc.byteOffset) / std::size_t(stride) &&
+                      (acc.count - 1) * std::size_t(stride) + element <= view_size - acc.byteOffset));
+  if (!fits) throw InputError(file, what + ": accessor reaches outside its buffer view or buffer");
+  return view.byteOffset + acc.byteOffset;
+}
 
 float srgb_to_linear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
@@ -32,17 +60,17 @@ std::vector<float> read_floats(const fs::path& file, const tinygltf::Model& mode
   if (acc.bufferView < 0 || acc.bufferView >= int(model.bufferViews.size()))
     throw InputError(file, std::string(what) + ": accessor without a valid bufferView");
   const tinygltf::BufferView& view = model.bufferViews[acc.bufferView];
-  const tinygltf::Buffer& buffer = model.buffers.at(view.buffer);
-  const int stride = acc.ByteStride(view);
   const std::size_t element = sizeof(float) * components;
-  const std::size_t start = view.byteOffset + acc.byteOffset;
-  if (stride <= 0 || (acc.count > 0 && start + std::size_t(stride) * (acc.count - 1) + element >
-                                           buffer.data.size()))
-    throw InputError(file, std::string(what) + ": accessor " + std::to_string(index) +
-                               " reaches past the end of its buffer");
+  const std::size_t start = checked_accessor_start(file, model, acc, element, std::string(what));
+  const tinygltf::Buffer& buffer = model.buffers[std::size_t(view.buffer)];
+  const std::size_t stride = std::size_t(acc.ByteStride(view));
   std::vector<float> out(acc.count * components);
   for (std::size_t i = 0; i < acc.count; ++i)
     std::memcpy(&out[i * components], buffer.data.data() + start + i * stride, element);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (!usable_number(out[i]))
+      throw InputError(file, std::string(what) + ": element " + std::to_string(i / components) +
+                                 " is not finite or exceeds 1e6 in magnitude");
   return out;
 }
 
@@ -60,12 +88,9 @@ std::vector<std::uint32_t> read_indices(const fs::path& file, const tinygltf::Mo
     throw InputError(file, "indices: accessor " + std::to_string(index) +
                                " must hold unsigned scalars in a bufferView");
   const tinygltf::BufferView& view = model.bufferViews[acc.bufferView];
-  const tinygltf::Buffer& buffer = model.buffers.at(view.buffer);
-  const int stride = acc.ByteStride(view);
-  const std::size_t start = view.byteOffset + acc.byteOffset;
-  if (stride <= 0 ||
-      (acc.count > 0 && start + std::size_t(stride) * (acc.count - 1) + size > buffer.data.size()))
-    throw InputError(file, "indices: accessor reaches past the end of its buffer");
+  const std::size_t start = checked_accessor_start(file, model, acc, std::size_t(size), "indices");
+  const tinygltf::Buffer& buffer = model.buffers[std::size_t(view.buffer)];
+  const std::size_t stride = std::size_t(acc.ByteStride(view));
   std::vector<std::uint32_t> out(acc.count);
   for (std::size_t i = 0; i < acc.count; ++i) {
     const unsigned char* p = buffer.data.data() + start + i * stride;
@@ -76,7 +101,24 @@ std::vector<std::uint32_t> read_indices(const fs::path& file, const tinygltf::Mo
   return out;
 }
 
-glm::mat4 local_transform(const tinygltf::Node& node) {
+// The node's transform; InputError for a malformed one (a matrix that is not 16 numbers, a
+// rotation that is not a non-zero quaternion, a value that is not finite or too large).
+glm::mat4 local_transform(const fs::path& file, const tinygltf::Node& node, int index) {
+  const std::string where = "node " + std::to_string(index) + ": ";
+  const auto check = [&](const std::vector<double>& values, std::size_t size, const char* name) {
+    if (!values.empty() && values.size() != size)
+      throw InputError(file, where + "\"" + name + "\" must hold " + std::to_string(size) + " numbers");
+    for (double v : values)
+      if (!usable_number(v)) throw InputError(file, where + "\"" + name + "\" has a value that is not finite or exceeds 1e6");
+  };
+  check(node.matrix, 16, "matrix");
+  check(node.translation, 3, "translation");
+  check(node.rotation, 4, "rotation");
+  check(node.scale, 3, "scale");
+  if (node.rotation.size() == 4 &&
+      !(std::abs(node.rotation[0]) + std::abs(node.rotation[1]) + std::abs(node.rotation[2]) +
+            std::abs(node.rotation[3]) > 1e-12))
+    throw InputError(file, where + "\"rotation\" is a zero quaternion");
   if (node.matrix.size() == 16) {
     glm::dmat4 m;  // glTF matrices are column-major, as glm's
     for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = node.matrix[i];
@@ -103,7 +145,11 @@ class Flattener {
       throw InputError(file_, "node index " + std::to_string(index) + " out of range");
     if (depth > 64) throw InputError(file_, "node hierarchy deeper than 64 (a cycle?)");
     const tinygltf::Node& n = model_.nodes[index];
-    const glm::mat4 world = parent * local_transform(n);
+    const glm::mat4 world = parent * local_transform(file_, n, index);
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        if (!usable_number(world[c][r]))
+          throw InputError(file_, "node " + std::to_string(index) + ": its world transform exceeds 1e6");
     if (n.mesh >= 0) {
       if (n.mesh >= int(model_.meshes.size()))
         throw InputError(file_, "node " + std::to_string(index) + ": mesh index out of range");
@@ -231,11 +277,33 @@ bool load_image_naming_uri(tinygltf::Image* image, int index, std::string* err, 
   return false;
 }
 
+// tinygltf takes a negative offset, length or count for "absent" and goes on with its default
+// (0), so a damaged file would load as a different mesh. In a text .gltf they are checked
+// first: whole numbers from 0 up.
+void check_sizes_are_counts(const fs::path& file) {
+  std::ifstream in(file);
+  const nlohmann::json doc = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (!doc.is_object()) return;  // tinygltf reports what is wrong with it
+  const char* sized[] = {"accessors", "bufferViews", "buffers"};
+  for (const char* list : sized) {
+    const auto items = doc.find(list);
+    if (items == doc.end() || !items->is_array()) continue;
+    for (std::size_t i = 0; i < items->size(); ++i)
+      for (const char* key : {"byteOffset", "byteLength", "byteStride", "count"}) {
+        const auto value = (*items)[i].find(key);
+        if (value != (*items)[i].end() && !value->is_number_unsigned())
+          throw InputError(file, std::string(list) + "[" + std::to_string(i) + "]." + key +
+                                     " must be a whole number from 0, not " + value->dump());
+      }
+  }
+}
+
 }  // namespace
 
 Mesh load_gltf_mesh(const fs::path& file) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) throw InputError(file, "glTF file not found");
+  if (file.extension() == ".gltf") check_sizes_are_counts(file);
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(load_image_naming_uri, nullptr);
   tinygltf::Model model;
@@ -258,6 +326,12 @@ Mesh load_gltf_mesh(const fs::path& file) {
                                  pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
     mat.metallic = float(pbr.metallicFactor);
     mat.roughness = float(pbr.roughnessFactor);
+    // glTF's own ranges; NaN fails them too.
+    const auto in_unit = [](double v) { return v >= 0.0 && v <= 1.0; };
+    bool factors_ok = in_unit(pbr.metallicFactor) && in_unit(pbr.roughnessFactor);
+    for (double v : pbr.baseColorFactor) factors_ok = factors_ok && in_unit(v);
+    if (!factors_ok)
+      throw InputError(file, "material \"" + m.name + "\": colour, metallic and roughness factors must be in [0, 1]");
     mat.texture = pbr.baseColorTexture.index;
     if (mat.texture >= int(mesh.textures.size()))
       throw InputError(file, "material \"" + m.name + "\": baseColorTexture index out of range");
@@ -280,6 +354,9 @@ Mesh load_gltf_mesh(const fs::path& file) {
       if (!is_child[i]) flatten.node(int(i), glm::mat4(1.0f), 0);
   }
   if (mesh.triangle_count() == 0) throw InputError(file, "the scene has no triangles");
+  for (const glm::vec3& p : mesh.positions)
+    if (!usable_number(p.x) || !usable_number(p.y) || !usable_number(p.z))
+      throw InputError(file, "a vertex lies beyond 1e6 once its node transforms are applied");
   return mesh;
 }
 

@@ -15,6 +15,13 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
+// No number in a spec may exceed this in magnitude (docs/DESIGN.md §4.8): positions, radii and
+// intensities beyond it lose all precision in the ray tracer's floats (a camera radius of 1e19
+// tripped an assertion inside Embree) or overflow them.
+constexpr double kMaxSpecMagnitude = 1e6;
+
+std::string magnitude_rule() { return "must be a number within ±1e6"; }
+
 // Reads one JSON object, tracking the dotted path of each key ("cameras.radius") so every
 // error names exactly what is wrong, and rejecting keys the spec does not define (a typo
 // like "raduis" would otherwise silently fall back to a default).
@@ -41,7 +48,7 @@ class ObjectReader {
     const json& v = get(key);
     if (!v.is_number()) fail(name(key), "must be a number");
     const double d = v.get<double>();
-    if (!std::isfinite(d)) fail(name(key), "must be finite");
+    if (!(std::abs(d) <= kMaxSpecMagnitude)) fail(name(key), magnitude_rule() + ", got " + v.dump());
     return d;
   }
   int integer(const char* key, int lo, int hi) const {
@@ -63,8 +70,9 @@ class ObjectReader {
     if (!v.is_array() || v.size() != 3) fail(what, "must be an array of 3 numbers");
     glm::vec3 out;
     for (int i = 0; i < 3; ++i) {
-      if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
-        fail(what, "must be an array of 3 numbers");
+      if (!v[i].is_number()) fail(what, "must be an array of 3 numbers");
+      if (!(std::abs(v[i].get<double>()) <= kMaxSpecMagnitude))
+        fail(what, magnitude_rule() + ", got " + v[i].dump());
       out[i] = v[i].get<float>();
     }
     return out;

@@ -1,6 +1,9 @@
 #include "splat/core/atomic_file.hpp"
 
 #include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
 #include <string>
 #include <system_error>
 #include <unistd.h>
@@ -30,6 +33,19 @@ void write_atomically(const std::filesystem::path& file,
     std::filesystem::remove(temp, ignored);
     throw InputError(file, "cannot move the finished file into place: " + ec.message());
   }
+}
+
+void write_stream_atomically(const std::filesystem::path& file, const std::function<void(std::ostream& out)>& write) {
+  write_atomically(file, [&](const std::filesystem::path& temp) {
+    errno = 0;
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError(file, "cannot create the file: " + std::string(std::strerror(errno)));
+    write(out);
+    out.flush();
+    const int flush_error = errno;
+    out.close();
+    if (!out) throw InputError(file, "cannot write the file: " + std::string(std::strerror(errno ? errno : flush_error)));
+  });
 }
 
 }  // namespace splat

@@ -3,6 +3,7 @@
 // name in the same folder, then rename into place (docs/DESIGN.md, "Errors").
 #include <filesystem>
 #include <functional>
+#include <ostream>
 
 namespace splat {
 
@@ -11,5 +12,12 @@ namespace splat {
 // OpenImageIO choose the format from it).
 void write_atomically(const std::filesystem::path& file,
                       const std::function<void(const std::filesystem::path& temp_path)>& write);
+
+// write_atomically through a binary stream: `write` fills it; the stream is then flushed and
+// closed, and only if no write failed (a full disk, a file-size limit) is the file moved into
+// place. Otherwise InputError naming `file` and the system's reason; the previous `file`, if
+// any, is untouched. Checking after the close matters: the last buffered bytes are only
+// written then.
+void write_stream_atomically(const std::filesystem::path& file, const std::function<void(std::ostream& out)>& write);
 
 }  // namespace splat

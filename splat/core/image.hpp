@@ -1,9 +1,25 @@
 #pragma once
 // A float image, interleaved channels, row-major: data[(y * width + x) * channels + c].
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace splat {
+
+// Limits of every image read or written (docs/DESIGN.md §4.4): a larger header is taken as
+// corrupt rather than an allocation to attempt. At the pixel limit an RGB float image takes
+// 768 MB.
+constexpr int kMaxImageSide = 1 << 16;
+constexpr std::size_t kMaxImagePixels = std::size_t(1) << 26;  // 8,192 × 8,192
+
+// "" when width x height is a size we read or write, else what is wrong with it.
+inline std::string image_size_problem(long long width, long long height) {
+  if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide)
+    return "each side must be from 1 to " + std::to_string(kMaxImageSide) + " pixels";
+  if (std::size_t(width) * std::size_t(height) > kMaxImagePixels)
+    return "more than the " + std::to_string(kMaxImagePixels) + " pixels an image may have";
+  return "";
+}
 
 struct Image {
   int width = 0, height = 0, channels = 0;

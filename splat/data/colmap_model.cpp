@@ -5,6 +5,7 @@
 #include <unordered_set>
 
 #include "splat/core/error.hpp"
+#include "splat/core/image.hpp"
 #include "splat/data/colmap_readers.hpp"
 
 namespace splat {
@@ -22,8 +23,6 @@ constexpr const char* kModelNames[] = {
 constexpr int kModelNameCount = int(std::size(kModelNames));
 constexpr int kSupportedModelCount = 5;  // ids 0 to 4
 
-// Larger sides are a corrupt file, not a camera (the same bound the image reader uses).
-constexpr int kMaxImageSide = 1 << 16;
 
 // Binary is COLMAP's default output and exact; text is the fallback.
 fs::path model_file(const fs::path& sparse_dir, const std::string& stem) {
@@ -85,10 +84,9 @@ ColmapCameraModel supported_model(const fs::path& file, const std::string& where
 }
 
 void check_camera(const fs::path& file, const std::string& where, const ColmapCamera& camera) {
-  if (camera.width < 1 || camera.height < 1 || camera.width > kMaxImageSide ||
-      camera.height > kMaxImageSide)
-    throw InputError(file, where + ": implausible image size " + std::to_string(camera.width) +
-                               " x " + std::to_string(camera.height));
+  if (const std::string problem = image_size_problem(camera.width, camera.height); !problem.empty())
+    throw InputError(file, where + ": image size " + std::to_string(camera.width) + " x " +
+                               std::to_string(camera.height) + ": " + problem);
   for (double p : camera.params)
     if (!std::isfinite(p)) throw InputError(file, where + ": non-finite camera parameter");
   // Every supported model starts with its focal length(s); PINHOLE and OPENCV have two.

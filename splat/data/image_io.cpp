@@ -15,9 +15,9 @@
 namespace splat {
 namespace {
 
-// Larger sides are taken as a corrupt header rather than an allocation to attempt.
-constexpr int kMaxImageSide = 1 << 16;
 constexpr int kMaxPngChannels = 4;
+constexpr int kMaxImageChannels = 16;
+constexpr double kMaxDeflateRatio = 1100;
 constexpr const char* kPngFormat = "png";
 // OpenImageIO premultiplies alpha into the colour of PNG/TIFF/... on read, and divides it out
 // again on write, unless told the data are straight ("unassociated"). We want the stored
@@ -49,11 +49,22 @@ std::unique_ptr<OIIO::ImageInput> open_input(const std::filesystem::path& file) 
   auto in = OIIO::ImageInput::open(file.string(), &config);
   if (!in) throw InputError(file, "cannot read image: " + take_global_error());
   const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.width > kMaxImageSide ||
-      spec.height > kMaxImageSide || spec.nchannels <= 0)
-    throw InputError(file, "implausible image size " + std::to_string(spec.width) + " x " +
-                               std::to_string(spec.height) + " x " +
-                               std::to_string(spec.nchannels));
+  const std::string size = std::to_string(spec.width) + " x " + std::to_string(spec.height) + " x " +
+                           std::to_string(spec.nchannels);
+  if (const std::string problem = image_size_problem(spec.width, spec.height); !problem.empty())
+    throw InputError(file, "image size " + size + ": " + problem);
+  if (spec.nchannels < 1 || spec.nchannels > kMaxImageChannels)
+    throw InputError(file, "image size " + size + ": 1 to " + std::to_string(kMaxImageChannels) + " channels");
+  // Deflate packs at most ~1,032 bytes into one, so a PNG far smaller than its pixels is a
+  // header claiming a size its data cannot hold: refused before the pixels are allocated.
+  if (std::string(in->format_name()) == kPngFormat) {
+    std::error_code ec;
+    const std::uintmax_t bytes = std::filesystem::file_size(file, ec);
+    const double raw = double(spec.width) * spec.height * spec.nchannels * spec.format.size();
+    if (!ec && raw > double(bytes) * kMaxDeflateRatio)
+      throw InputError(file, "image size " + size + " cannot be held in a PNG of " + std::to_string(bytes) +
+                                 " bytes (truncated or corrupt)");
+  }
   if (spec.depth > 1 || spec.deep)
     throw InputError(file, "volume and deep images are not supported");
   return in;

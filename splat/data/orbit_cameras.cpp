@@ -78,11 +78,7 @@ void write_transforms(const std::filesystem::path& file, const std::vector<Camer
     frames.push_back(frame);
   }
   doc["frames"] = frames;
-  write_atomically(file, [&](const std::filesystem::path& temp) {
-    std::ofstream out(temp);
-    out << doc.dump(1) << "\n";
-    if (!out) throw InputError(file, "cannot write the file");
-  });
+  write_stream_atomically(file, [&](std::ostream& out) { out << doc.dump(1) << "\n"; });
 }
 
 }  // namespace splat

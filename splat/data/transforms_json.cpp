@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "splat/core/error.hpp"
+#include "splat/core/image.hpp"
 #include "splat/data/image_io.hpp"
 
 namespace splat {
@@ -22,8 +23,6 @@ using json = nlohmann::json;
 
 // What NeRF-synthetic renders at when neither the JSON nor an image says otherwise.
 constexpr int kDefaultImageSide = 800;
-// Larger sides are a typo or a corrupt file, not a camera.
-constexpr int kMaxImageSide = 1 << 16;
 // A focal length of more than this many image sides is a field of view under 0.006 degrees.
 constexpr double kMaxFocalPerImageSide = 1e4;
 // transform_matrix must be rigid: stored rotations are accurate to float precision, and
@@ -170,7 +169,12 @@ class FrameReader {
 // "w"/"h" when given, else what `fallback` finds (the first image, or the default).
 Size native_size(const FrameReader& reader, const std::function<Size()>& fallback) {
   const Field w = reader.find("w"), h = reader.find("h");
-  if (w && h) return {reader.image_side(w), reader.image_side(h)};
+  if (w && h) {
+    const Size size{reader.image_side(w), reader.image_side(h)};
+    if (const std::string problem = image_size_problem(size.width, size.height); !problem.empty())
+      reader.fail(w.where + " x " + h.where + ": " + problem);
+    return size;
+  }
   if (w) reader.fail(w.where + " is given without \"h\"");
   if (h) reader.fail(h.where + " is given without \"w\"");
   return fallback();
@@ -218,12 +222,13 @@ fs::path resolve_image_path(const fs::path& json_file, const std::string& file_p
 void check_options(const fs::path& file, const TransformsOptions& options) {
   const bool neither = options.width == 0 && options.height == 0;
   const bool both = options.width > 0 && options.height > 0 &&
-                    options.width <= kMaxImageSide && options.height <= kMaxImageSide;
+                    image_size_problem(options.width, options.height).empty();
   // Deriving one side from the other would need each frame's aspect ratio; asking for both
   // keeps the output size what the caller wrote.
   if (!neither && !both)
     throw ArgumentError(file.string() + ": output size must give both width and height (1 to " +
-                        std::to_string(kMaxImageSide) + ") or neither, not " +
+                        std::to_string(kMaxImageSide) + " a side, at most " + std::to_string(kMaxImagePixels) +
+                        " pixels) or neither, not " +
                         std::to_string(options.width) + " x " + std::to_string(options.height));
 }
 

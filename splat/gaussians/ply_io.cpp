@@ -368,14 +368,10 @@ void write_ply(const GaussianModel& model, const std::filesystem::path& file) {
     for (const Column& c : columns)
       append_little_endian(out, c.array ? (model.*c.array)[c.first + i * c.stride] : 0.0f);
 
-  write_atomically(file, [&](const std::filesystem::path& temp) {
-    std::ofstream stream(temp, std::ios::binary | std::ios::trunc);
-    if (!stream) throw InputError(file, "cannot open the file for writing");
+  write_stream_atomically(file, [&](std::ostream& stream) {
     stream.write(header.data(), static_cast<std::streamsize>(header.size()));
     stream.write(reinterpret_cast<const char*>(payload.data()),
                  static_cast<std::streamsize>(payload.size()));
-    stream.close();
-    if (!stream) throw InputError(file, "writing failed (disk full?)");
   });
 }
 

@@ -1,12 +1,17 @@
 #include "splat/nerf/nerf_file.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <initializer_list>
+#include <string>
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "splat/core/atomic_file.hpp"
 #include "splat/core/error.hpp"
+#include "splat/core/setting_value.hpp"
+#include "splat/nerf/positional_encoding.hpp"
 
 namespace splat {
 
@@ -23,18 +28,39 @@ nlohmann::json mlp_json(const NerfMlpConfig& c) {
           {"density_activation", c.density_activation == DensityActivation::kRelu ? "relu" : "softplus"}};
 }
 
-NerfMlpConfig mlp_from_json(const nlohmann::json& j) {
+// Throws ArgumentError naming the first key of `j` that is not in `known`.
+void require_known_keys(const nlohmann::json& j, const std::string& where,
+                        std::initializer_list<const char*> known) {
+  if (!j.is_object()) throw ArgumentError(where + " must be a JSON object");
+  for (const auto& item : j.items())
+    if (std::none_of(known.begin(), known.end(), [&](const char* k) { return item.key() == k; }))
+      throw ArgumentError("unknown NeRF setting \"" + where + "." + item.key() + "\"");
+}
+
+template <class T>
+T setting(const nlohmann::json& j, const std::string& where, const char* key, const SettingRange& range) {
+  const auto it = j.find(key);
+  if (it == j.end()) throw ArgumentError("\"" + where + "." + key + "\" is missing");
+  return read_setting<T>(*it, where + "." + key, range);
+}
+
+NerfMlpConfig mlp_from_json(const nlohmann::json& j, const std::string& where) {
+  require_known_keys(j, where, {"position_frequencies", "direction_frequencies", "depth", "width",
+                                "skip_layer", "color_width", "density_activation"});
   NerfMlpConfig c;
-  c.position_frequencies = j.at("position_frequencies").get<int>();
-  c.direction_frequencies = j.at("direction_frequencies").get<int>();
-  c.depth = j.at("depth").get<int>();
-  c.width = j.at("width").get<int>();
-  c.skip_layer = j.at("skip_layer").get<int>();
-  c.color_width = j.at("color_width").get<int>();
-  const std::string activation = j.at("density_activation").get<std::string>();
-  if (activation != "relu" && activation != "softplus")
-    throw ArgumentError("unknown density_activation '" + activation + "'");
-  c.density_activation = activation == "relu" ? DensityActivation::kRelu : DensityActivation::kSoftplus;
+  const SettingRange frequencies{0, kMaxEncodingFrequencies};
+  c.position_frequencies = setting<int>(j, where, "position_frequencies", frequencies);
+  c.direction_frequencies = setting<int>(j, where, "direction_frequencies", frequencies);
+  c.depth = setting<int>(j, where, "depth", {1, kMaxNerfDepth});
+  c.width = setting<int>(j, where, "width", {1, kMaxNerfWidth});
+  c.skip_layer = setting<int>(j, where, "skip_layer", {-1, kMaxNerfDepth - 1});
+  c.color_width = setting<int>(j, where, "color_width", {1, kMaxNerfWidth});
+  const auto activation = j.find("density_activation");
+  if (activation == j.end() || !activation->is_string() ||
+      (*activation != "relu" && *activation != "softplus"))
+    throw ArgumentError("\"" + where + ".density_activation\" must be \"relu\" or \"softplus\"");
+  c.density_activation = *activation == "relu" ? DensityActivation::kRelu : DensityActivation::kSoftplus;
+  validate(c);
   return c;
 }
 
@@ -72,24 +98,36 @@ nlohmann::json nerf_settings_json(const NerfSettings& s) {
 }
 
 NerfSettings nerf_settings_from_json(const nlohmann::json& j) {
+  const std::string where = "model";
+  require_known_keys(j, where, {"coarse", "fine", "coarse_samples", "fine_samples", "box_min", "box_max",
+                                "unbounded", "near", "occupancy_resolution", "occupancy_optical_thickness",
+                                "occupancy_threshold", "coarse_parameters", "fine_parameters"});
   NerfSettings s;
-  s.coarse = mlp_from_json(j.at("coarse"));
-  s.fine = mlp_from_json(j.at("fine"));
-  s.coarse_samples = j.at("coarse_samples").get<int>();
-  s.fine_samples = j.at("fine_samples").get<int>();
-  const auto lo = j.at("box_min").get<std::vector<float>>(), hi = j.at("box_max").get<std::vector<float>>();
-  if (lo.size() != 3 || hi.size() != 3) throw ArgumentError("box_min and box_max need 3 values");
-  s.box = {glm::vec3(lo[0], lo[1], lo[2]), glm::vec3(hi[0], hi[1], hi[2])};
-  s.unbounded = j.value("unbounded", false);  // absent in files from before unbounded scenes
-  s.near = j.at("near").get<float>();
-  s.occupancy_resolution = j.at("occupancy_resolution").get<int>();
+  if (!j.contains("coarse") || !j.contains("fine")) throw ArgumentError("\"model.coarse\" and \"model.fine\" are needed");
+  s.coarse = mlp_from_json(j.at("coarse"), where + ".coarse");
+  s.fine = mlp_from_json(j.at("fine"), where + ".fine");
+  s.coarse_samples = setting<int>(j, where, "coarse_samples", {1, kMaxNerfSamplesPerRay});
+  s.fine_samples = setting<int>(j, where, "fine_samples", {0, kMaxNerfSamplesPerRay});
+  const SettingRange coordinate{-kMaxNerfCoordinate, kMaxNerfCoordinate};
+  for (const char* key : {"box_min", "box_max"}) {
+    const auto it = j.find(key);
+    if (it == j.end() || !it->is_array() || it->size() != 3)
+      throw ArgumentError("\"" + where + "." + key + "\" needs 3 numbers");
+    glm::vec3& corner = std::string(key) == "box_min" ? s.box.lo : s.box.hi;
+    for (int a = 0; a < 3; ++a) corner[a] = read_setting<float>((*it)[std::size_t(a)], where + "." + key, coordinate);
+  }
+  if (!(s.box.lo.x < s.box.hi.x && s.box.lo.y < s.box.hi.y && s.box.lo.z < s.box.hi.z))
+    throw ArgumentError("\"model.box_min\" must be below \"model.box_max\" on every axis");
+  // Absent in files from before unbounded scenes.
+  if (j.contains("unbounded")) s.unbounded = read_setting<bool>(j.at("unbounded"), where + ".unbounded", {});
+  s.near = setting<float>(j, where, "near", {0, kMaxNerfCoordinate});
+  s.occupancy_resolution = setting<int>(j, where, "occupancy_resolution", {1, kMaxOccupancyResolution});
   // Files and configs from before the optical thickness gave the density threshold itself.
   if (j.contains("occupancy_threshold"))
-    s.occupancy_optical_thickness = j.at("occupancy_threshold").get<float>() * s.coarse_step();
+    s.occupancy_optical_thickness =
+        setting<float>(j, where, "occupancy_threshold", {0, 1e6}) * s.coarse_step();
   else
-    s.occupancy_optical_thickness = j.at("occupancy_optical_thickness").get<float>();
-  if (s.coarse_samples < 1 || s.coarse_samples > 4096 || s.fine_samples < 0 || s.fine_samples > 4096)
-    throw ArgumentError("sample counts must be in 1..4096 (coarse) and 0..4096 (fine)");
+    s.occupancy_optical_thickness = setting<float>(j, where, "occupancy_optical_thickness", {0, 1e6});
   return s;
 }
 
@@ -153,11 +191,7 @@ NerfModel read_nerf_from(std::istream& in, const std::filesystem::path& file) {
 }
 
 void write_nerf(const NerfModel& model, const std::filesystem::path& file) {
-  write_atomically(file, [&](const std::filesystem::path& temp) {
-    std::ofstream out(temp, std::ios::binary);
-    write_nerf_to(out, model);
-    if (!out) throw InputError(file, "cannot write the file");
-  });
+  write_stream_atomically(file, [&](std::ostream& out) { write_nerf_to(out, model); });
 }
 
 NerfModel read_nerf(const std::filesystem::path& file) {

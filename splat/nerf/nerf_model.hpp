@@ -11,6 +11,13 @@
 
 namespace splat {
 
+// Limits of the settings (docs/DESIGN.md §4.5), checked when a config or a .nerf file is
+// read. A network of the largest depth and width has ~16M parameters (64 MB).
+constexpr int kMaxNerfDepth = 16;
+constexpr int kMaxNerfWidth = 1024;
+constexpr int kMaxNerfSamplesPerRay = 1024;  // coarse, and importance samples, each
+constexpr float kMaxNerfCoordinate = 1e6f;   // box corners and the near distance
+
 struct NerfSettings {
   // Smaller than the paper's 8×256 networks and 64 + 128 samples: on two CPU cores those
   // train a few hundred iterations in half an hour. The occupancy grid already confines the

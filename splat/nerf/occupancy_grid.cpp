@@ -11,9 +11,9 @@ namespace splat {
 
 OccupancyGrid::OccupancyGrid(const AxisAlignedBox& box, int resolution, float threshold)
     : box_(box), resolution_(resolution), threshold_(threshold) {
-  if (resolution < 1 || resolution > 1024)
-    throw ArgumentError("occupancy grid: resolution " + std::to_string(resolution) +
-                        " is outside [1, 1024]");
+  if (resolution < 1 || resolution > kMaxOccupancyResolution)
+    throw ArgumentError("occupancy grid: resolution " + std::to_string(resolution) + " is outside [1, " +
+                        std::to_string(kMaxOccupancyResolution) + "]");
   const glm::vec3 size = box.hi - box.lo;
   if (!(size.x > 0 && size.y > 0 && size.z > 0))
     throw ArgumentError("occupancy grid: the box is empty");

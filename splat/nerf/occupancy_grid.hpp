@@ -26,6 +26,9 @@
 
 namespace splat {
 
+// The largest grid side: 256³ cells hold 84 MB (a float and a flag each); 1,024 would be 5 GB.
+constexpr int kMaxOccupancyResolution = 256;
+
 struct OccupancyUpdateOptions {
   float decay = 0.95f;    // multiplies every cell's value before the new samples
   bool jitter = true;     // a uniform random point in each evaluated cell, else its centre

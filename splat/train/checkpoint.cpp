@@ -4,11 +4,14 @@
 // model's five parameter arrays, then Adam's first and second moments (five each), then the
 // density strategy's statistics (DensityStrategy::checkpoint_arrays: three for the official
 // strategy, in the order every version-1 checkpoint has them).
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
 
 #include "splat/core/atomic_file.hpp"
+#include "splat/core/setting_value.hpp"
 #include "splat/train/splat_trainer.hpp"
 
 namespace splat {
@@ -63,8 +66,7 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
   if (config_.exposure_compensation) header["exposure_steps"] = exposure_.steps();
   const std::string text = header.dump();
 
-  write_atomically(file, [&](const std::filesystem::path& temp) {
-    std::ofstream out(temp, std::ios::binary);
+  write_stream_atomically(file, [&](std::ostream& out) {
     out.write(kMagic, sizeof(kMagic));
     out.write(reinterpret_cast<const char*>(&kVersion), sizeof(kVersion));
     const std::uint64_t size = text.size();
@@ -81,7 +83,6 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
       for (const std::vector<float>& a :
            {exposure_.parameters(), exposure_.first_moments(), exposure_.second_moments()})
         write_array(out, a);
-    if (!out) throw InputError(file, "cannot write the checkpoint");
   });
 }
 
@@ -118,14 +119,18 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
     config.iterations = config_.iterations;
     config.max_seconds = config_.max_seconds;
     config_ = config;
-    iteration_ = header.at("iteration").get<int>();
-    active_sh_degree_ = header.at("active_sh_degree").get<int>();
+    const SettingRange iterations{0, kMaxTrainingIterations}, sh_degrees{0, kMaxShDegree};
+    iteration_ = read_setting<int>(header.at("iteration"), "iteration", iterations);
+    active_sh_degree_ = read_setting<int>(header.at("active_sh_degree"), "active_sh_degree", sh_degrees);
     model_.sh_degree = adam_.first_moment.sh_degree = adam_.second_moment.sh_degree =
-        header.at("sh_degree").get<int>();
-    adam_.step = header.at("adam_step").get<int>();
+        read_setting<int>(header.at("sh_degree"), "sh_degree", sh_degrees);
+    if (active_sh_degree_ > model_.sh_degree) throw ArgumentError("active_sh_degree is above sh_degree");
+    adam_.step = read_setting<int>(header.at("adam_step"), "adam_step", iterations);
     view_stack_ = header.at("view_stack").get<std::vector<std::size_t>>();
+    if (view_stack_.size() > dataset_.train.size()) throw ArgumentError("view_stack is longer than the views");
     std::istringstream rng_state(header.at("rng").get<std::string>());
     rng_state >> rng_;
+    if (!rng_state) throw ArgumentError("rng is not a random generator's state");
   } catch (const nlohmann::json::exception& e) {
     throw InputError(file, std::string("checkpoint header is malformed: ") + e.what());
   } catch (const ArgumentError& e) {
@@ -160,6 +165,12 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
     model_.check_consistent();
     adam_.first_moment.check_consistent();
     adam_.second_moment.check_consistent();
+    // A non-finite value would make the first step's model, and the last good one, non-finite.
+    for (const GaussianModel* g : {&model_, &adam_.first_moment, &adam_.second_moment})
+      for (const std::vector<float>* a : model_arrays(*g))
+        if (!std::all_of(a->begin(), a->end(), [](float v) { return std::isfinite(v); }))
+          throw ArgumentError(std::string(g == &model_ ? "a model" : "an Adam moment") +
+                              " value is not finite");
     if (adam_.first_moment.size() != model_.size() || adam_.second_moment.size() != model_.size())
       throw ArgumentError("the Adam moments and the model disagree in length");
     strategy_->checkpoint_loaded(header.value("strategy_state", nlohmann::json::object()), model_.size());

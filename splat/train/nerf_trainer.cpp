@@ -10,6 +10,7 @@
 
 #include "splat/core/atomic_file.hpp"
 #include "splat/core/random.hpp"
+#include "splat/core/setting_value.hpp"
 #include "splat/nerf/nerf_file.hpp"
 #include "splat/train/training_support.hpp"
 
@@ -58,29 +59,31 @@ nlohmann::json to_json(const NerfTrainingConfig& c) {
 void from_json(const nlohmann::json& j, NerfTrainingConfig& c) {
   if (!j.is_object()) throw ArgumentError("the NeRF config must be a JSON object");
   std::optional<bool> box_from_data;  // said outright, it wins over a box in "model"
+  const SettingRange iterations{0, kMaxTrainingIterations};
+  const SettingRange rate{1e-12, kMaxLearningRate};  // log-linear: log(0) is not a rate
   for (const auto& [key, value] : j.items()) {
     try {
       if (key == "method") {
         if (value != "nerf") throw ArgumentError("\"method\" is " + value.dump() + " in a NeRF config");
-      } else if (key == "iterations") c.iterations = value.get<int>();
-      else if (key == "max_seconds") c.max_seconds = value.get<double>();
+      } else if (key == "iterations") c.iterations = read_setting<int>(value, key, {1, kMaxTrainingIterations});
+      else if (key == "max_seconds") c.max_seconds = read_setting<double>(value, key, {0, kMaxTrainingSeconds});
       else if (key == "background") {
-        const auto bg = value.get<std::vector<float>>();
-        if (bg.size() != 3) throw ArgumentError("\"background\" needs 3 values");
-        for (int i = 0; i < 3; ++i) c.background[i] = bg[std::size_t(i)];
-      } else if (key == "seed") c.seed = value.get<unsigned>();
-      else if (key == "rays_per_batch") c.rays_per_batch = value.get<int>();
-      else if (key == "lr_init") c.lr_init = value.get<double>();
-      else if (key == "lr_final") c.lr_final = value.get<double>();
-      else if (key == "lr_decay_iterations") c.lr_decay_iterations = value.get<int>();
-      else if (key == "schedule_follows_budget") c.schedule_follows_budget = value.get<bool>();
-      else if (key == "density_bias_init") c.density_bias_init = value.get<float>();
-      else if (key == "occupancy_warmup") c.occupancy_warmup = value.get<int>();
-      else if (key == "occupancy_interval") c.occupancy_interval = value.get<int>();
-      else if (key == "occupancy_cells_per_update") c.occupancy_cells_per_update = value.get<std::size_t>();
-      else if (key == "test_interval") c.test_interval = value.get<int>();
-      else if (key == "checkpoint_interval") c.checkpoint_interval = value.get<int>();
-      else if (key == "box_from_data") box_from_data = value.get<bool>();
+        if (!value.is_array() || value.size() != 3) throw ArgumentError("\"background\" needs 3 numbers");
+        for (int i = 0; i < 3; ++i) c.background[i] = read_setting<float>(value[std::size_t(i)], key, {0, 1});
+      } else if (key == "seed") c.seed = read_setting<unsigned>(value, key, {0, 4294967295.0});
+      else if (key == "rays_per_batch") c.rays_per_batch = read_setting<int>(value, key, {1, kMaxNerfRaysPerBatch});
+      else if (key == "lr_init") c.lr_init = read_setting<double>(value, key, rate);
+      else if (key == "lr_final") c.lr_final = read_setting<double>(value, key, rate);
+      else if (key == "lr_decay_iterations") c.lr_decay_iterations = read_setting<int>(value, key, {1, kMaxTrainingIterations});
+      else if (key == "schedule_follows_budget") c.schedule_follows_budget = read_setting<bool>(value, key, {});
+      else if (key == "density_bias_init") c.density_bias_init = read_setting<float>(value, key, {-100, 100});
+      else if (key == "occupancy_warmup") c.occupancy_warmup = read_setting<int>(value, key, iterations);
+      else if (key == "occupancy_interval") c.occupancy_interval = read_setting<int>(value, key, {1, kMaxTrainingIterations});
+      else if (key == "occupancy_cells_per_update")
+        c.occupancy_cells_per_update = read_setting<std::size_t>(value, key, {0, 16'777'216});  // 256³
+      else if (key == "test_interval") c.test_interval = read_setting<int>(value, key, iterations);
+      else if (key == "checkpoint_interval") c.checkpoint_interval = read_setting<int>(value, key, iterations);
+      else if (key == "box_from_data") box_from_data = read_setting<bool>(value, key, {});
       else if (key == "model") {
         if (value.is_object() && (value.contains("box_min") || value.contains("box_max") || value.contains("unbounded")))
           c.box_from_data = false;
@@ -95,9 +98,6 @@ void from_json(const nlohmann::json& j, NerfTrainingConfig& c) {
     }
   }
   if (box_from_data) c.box_from_data = *box_from_data;
-  if (!std::isfinite(c.density_bias_init)) throw ArgumentError("density_bias_init must be finite");
-  if (c.rays_per_batch < 1 || c.iterations < 1 || c.occupancy_interval < 1)
-    throw ArgumentError("rays_per_batch, iterations and occupancy_interval must be >= 1");
 }
 
 NerfTrainer::NerfTrainer(const Dataset& dataset, const NerfTrainingConfig& config)
@@ -218,8 +218,7 @@ void NerfTrainer::check_finite(int iteration) const {
 }
 
 void NerfTrainer::save_checkpoint(const std::filesystem::path& file) const {
-  write_atomically(file, [&](const std::filesystem::path& temp) {
-    std::ofstream out(temp, std::ios::binary);
+  write_stream_atomically(file, [&](std::ostream& out) {
     out.write(kCheckpointMagic, sizeof(kCheckpointMagic));
     out.write(reinterpret_cast<const char*>(&kCheckpointVersion), sizeof(kCheckpointVersion));
     const std::int64_t iteration = iteration_, steps = coarse_adam_.steps();
@@ -237,7 +236,6 @@ void NerfTrainer::save_checkpoint(const std::filesystem::path& file) const {
     write_floats(out, coarse_adam_.second_moment());
     write_floats(out, fine_adam_.first_moment());
     write_floats(out, fine_adam_.second_moment());
-    if (!out) throw InputError(file, "cannot write the checkpoint");
   });
 }
 
@@ -257,6 +255,9 @@ void NerfTrainer::load_checkpoint(const std::filesystem::path& file) {
   in.read(reinterpret_cast<char*>(&steps), sizeof(steps));
   in.read(reinterpret_cast<char*>(&rng_length), sizeof(rng_length));
   if (!in || rng_length > 100000) throw InputError(file, "truncated checkpoint header");
+  if (iteration < 0 || iteration > kMaxTrainingIterations || steps < 0 || steps > kMaxTrainingIterations)
+    throw InputError(file, "the iteration or optimiser step count is outside [0, " +
+                               std::to_string(kMaxTrainingIterations) + "]");
   std::string rng(rng_length, '\0');
   in.read(rng.data(), std::streamsize(rng_length));
   NerfModel model = read_nerf_from(in, file), last_good = read_nerf_from(in, file);

@@ -4,6 +4,7 @@
 // Adam with an exponentially decaying learning rate, and the occupancy grid refreshed from
 // the networks' densities so that rays skip empty space. No printing: the command line
 // reports progress.
+#include <cmath>
 #include <filesystem>
 #include <random>
 #include <vector>
@@ -17,7 +18,9 @@
 namespace splat {
 
 // The iteration limit of a NeRF run with a time budget and no iteration count of its own.
-constexpr int kNerfIterationsUnderBudget = 10'000'000;
+constexpr int kNerfIterationsUnderBudget = kMaxTrainingIterations;
+// The largest batch: its samples' activations grow with it (docs/DESIGN.md §4.7).
+constexpr int kMaxNerfRaysPerBatch = 16384;
 
 struct NerfTrainingConfig {
   int iterations = 20000;
@@ -83,6 +86,8 @@ class NerfTrainer {
   const NerfModel& last_good_model() const { return last_good_model_; }
   const NerfTrainingConfig& config() const { return config_; }
   void check_parameters_finite() const { check_finite(iteration_); }
+  // Fault injection for the tests of the divergence path: sets one fine-network weight to NaN.
+  void inject_non_finite_parameter() { model_.fine.parameters()[0] = std::nanf(""); }
   void save_checkpoint(const std::filesystem::path& file) const;
   void load_checkpoint(const std::filesystem::path& file);
 

@@ -3,6 +3,7 @@
 // One step() is one iteration: pick a training view, render, (1 − λ)·L1 + λ·(1 − SSIM),
 // backward, density control (the configured DensityStrategy's hooks), Adam. No printing: the
 // command line reports progress.
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <utility>
@@ -108,6 +109,9 @@ class SplatTrainer {
 
   // Throws TrainingDiverged naming the first parameter group with a non-finite value.
   void check_parameters_finite() const;
+  // Fault injection for the tests of the divergence path (settings within their limits no
+  // longer make training diverge): sets one mean to NaN.
+  void inject_non_finite_parameter() { model_.means.at(0) = std::nanf(""); }
 
   // Everything needed to continue exactly where training stopped (model, Adam state,
   // densification statistics, random state, view order), written atomically.

@@ -4,94 +4,106 @@
 #include <string>
 
 #include "splat/core/error.hpp"
+#include "splat/core/setting_value.hpp"
 #include "splat/optim/lr_schedule.hpp"
 
 namespace splat {
 
 namespace {
 
-// One table of (name, getter/setter) so writing and reading cannot drift apart.
+// The allowed values of the settings below (docs/DESIGN.md §4.7).
+constexpr SettingRange kFlag{};  // true or false; the range is not used
+constexpr SettingRange kUnit{0, 1};
+constexpr SettingRange kIterationCount{0, kMaxTrainingIterations};
+constexpr SettingRange kRate{0, kMaxLearningRate};
+// Rates and factors a log-linear schedule interpolates between: log(0) is not a rate.
+constexpr SettingRange kLogScheduleRate{1e-12, kMaxLearningRate};
+constexpr SettingRange kLogScheduleFactor{1e-6, 1};
+// Opacities a logit is taken of: 0 and 1 have none.
+constexpr SettingRange kOpacity{1e-6, 0.999999};
+
+// One table of (name, value, allowed range) so writing and reading cannot drift apart.
 template <class Visitor>
 void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
-  v("iterations", c.iterations);
-  v("max_seconds", c.max_seconds);
-  v("background_r", c.background[0]);
-  v("background_g", c.background[1]);
-  v("background_b", c.background[2]);
-  v("seed", c.seed);
-  v("ssim_weight", c.ssim_weight);
-  v("position_lr_init", c.position_lr_init);
-  v("position_lr_final", c.position_lr_final);
-  v("position_lr_max_steps", c.position_lr_max_steps);
-  v("schedule_follows_budget", c.schedule_follows_budget);
-  v("schedule_iterations", c.schedule_iterations);
-  v("sh_dc_lr", c.sh_dc_lr);
-  v("sh_rest_lr", c.sh_rest_lr);
-  v("opacity_lr", c.opacity_lr);
-  v("scale_lr", c.scale_lr);
-  v("rotation_lr", c.rotation_lr);
-  v("appearance_lr_final_factor", c.appearance_lr_final_factor);
-  v("appearance_lr_decay_from", c.appearance_lr_decay_from);
-  v("sh_degree", c.sh_degree);
-  v("sh_increase_interval", c.sh_increase_interval);
-  v("random_init_points", c.random_init_points);
-  v("random_init_half_extent", c.random_init_half_extent);
-  v("random_init_near", c.random_init_near);
-  v("random_init_far", c.random_init_far);
-  v("random_init_shell_fraction", c.random_init_shell_fraction);
-  v("random_init_depth_candidates", c.random_init_depth_candidates);
-  v("far_position_step_exponent", c.far_position_step_exponent);
+  v("iterations", c.iterations, {1, kMaxTrainingIterations});
+  v("max_seconds", c.max_seconds, {0, kMaxTrainingSeconds});
+  v("background_r", c.background[0], kUnit);
+  v("background_g", c.background[1], kUnit);
+  v("background_b", c.background[2], kUnit);
+  v("seed", c.seed, {0, 4294967295.0});
+  v("ssim_weight", c.ssim_weight, kUnit);
+  v("position_lr_init", c.position_lr_init, kLogScheduleRate);
+  v("position_lr_final", c.position_lr_final, kLogScheduleRate);
+  v("position_lr_max_steps", c.position_lr_max_steps, {1, kMaxTrainingIterations});
+  v("schedule_follows_budget", c.schedule_follows_budget, kFlag);
+  v("schedule_iterations", c.schedule_iterations, kIterationCount);
+  v("sh_dc_lr", c.sh_dc_lr, kRate);
+  v("sh_rest_lr", c.sh_rest_lr, kRate);
+  v("opacity_lr", c.opacity_lr, kRate);
+  v("scale_lr", c.scale_lr, kRate);
+  v("rotation_lr", c.rotation_lr, kRate);
+  v("appearance_lr_final_factor", c.appearance_lr_final_factor, kLogScheduleFactor);
+  v("appearance_lr_decay_from", c.appearance_lr_decay_from, kIterationCount);
+  v("sh_degree", c.sh_degree, {0, kMaxShDegree});
+  v("sh_increase_interval", c.sh_increase_interval, {1, kMaxTrainingIterations});
+  v("random_init_points", c.random_init_points, {1, kMaxRandomInitPoints});
+  v("random_init_half_extent", c.random_init_half_extent, {0, 1e6});
+  v("random_init_near", c.random_init_near, {1e-3, 1e4});
+  v("random_init_far", c.random_init_far, {1e-3, 1e4});
+  v("random_init_shell_fraction", c.random_init_shell_fraction, kUnit);
+  v("random_init_depth_candidates", c.random_init_depth_candidates, {1, 1000});
+  v("far_position_step_exponent", c.far_position_step_exponent, {0, 16});
   DensityControlSettings& d = c.density;
-  v("densify_from_iter", d.densify_from_iter);
-  v("densify_until_iter", d.densify_until_iter);
-  v("densification_interval", d.densification_interval);
-  v("opacity_reset_interval", d.opacity_reset_interval);
-  v("densify_grad_threshold", d.densify_grad_threshold);
-  v("percent_dense", d.percent_dense);
-  v("split_count", d.split_count);
-  v("split_scale_divisor", d.split_scale_divisor);
-  v("min_opacity", d.min_opacity);
-  v("max_screen_size", d.max_screen_size);
-  v("max_world_size_factor", d.max_world_size_factor);
-  v("prune_by_screen_size", d.prune_by_screen_size);
-  v("opacity_reset_value", d.opacity_reset_value);
-  v("max_gaussians", d.max_gaussians);
+  v("densify_from_iter", d.densify_from_iter, kIterationCount);
+  v("densify_until_iter", d.densify_until_iter, kIterationCount);
+  v("densification_interval", d.densification_interval, {1, kMaxTrainingIterations});
+  v("opacity_reset_interval", d.opacity_reset_interval, {1, kMaxTrainingIterations});
+  v("densify_grad_threshold", d.densify_grad_threshold, {0, 1});
+  v("percent_dense", d.percent_dense, kUnit);
+  v("split_count", d.split_count, {1, 16});
+  v("split_scale_divisor", d.split_scale_divisor, {1e-3, 1e3});
+  v("min_opacity", d.min_opacity, kUnit);
+  v("max_screen_size", d.max_screen_size, {0, 1e6});
+  v("max_world_size_factor", d.max_world_size_factor, {0, 1e6});
+  v("prune_by_screen_size", d.prune_by_screen_size, kFlag);
+  v("opacity_reset_value", d.opacity_reset_value, kOpacity);
+  v("max_gaussians", d.max_gaussians, {0, kMaxGaussiansSetting});
   CompactSettings& k = c.compact;
-  v("compact_warmup_divisor", k.warmup_divisor);
-  v("compact_warmup_until", k.warmup_until);
-  v("compact_grow_from", k.grow_from);
-  v("compact_grow_until", k.grow_until);
-  v("compact_grow_interval", k.grow_interval);
-  v("compact_grow_grad_threshold", k.grow_grad_threshold);
-  v("compact_grow_max_fraction", k.grow_max_fraction);
-  v("compact_grow_by_sampling", k.grow_by_sampling);
-  v("compact_relocate_dead", k.relocate_dead);
-  v("compact_prune_opacity", k.prune_opacity);
-  v("compact_prune_weight", k.prune_weight);
-  v("compact_prune_by_peak_weight", k.prune_by_peak_weight);
-  v("compact_prune_weight_after_growth", k.prune_weight_after_growth);
-  v("compact_prune_window", k.prune_window);
-  v("compact_prune_until", k.prune_until);
-  v("compact_opacity_reset_interval", k.opacity_reset_interval);
-  v("compact_opacity_reset_value", k.opacity_reset_value);
-  v("compact_opacity_regularization", k.opacity_regularization);
-  v("compact_scale_regularization", k.scale_regularization);
-  v("compact_noise_lr", k.noise_lr);
-  v("refine_poses", c.refine_poses);
-  v("pose_refine_from", c.pose_refine_from);
-  v("pose_rotation_lr", c.pose_rotation_lr);
-  v("pose_translation_lr", c.pose_translation_lr);
-  v("pose_lr_final_factor", c.pose_lr_final_factor);
-  v("pose_lr_decay_until", c.pose_lr_decay_until);
-  v("pose_pivot_at_scene", c.pose_pivot_at_scene);
-  v("pose_adam_beta1", c.pose_adam_beta1);
-  v("pose_hold_frame", c.pose_hold_frame);
-  v("exposure_compensation", c.exposure_compensation);
-  v("exposure_from", c.exposure_from);
-  v("exposure_lr", c.exposure_lr);
-  v("test_pose_alignment_steps", c.test_pose_alignment_steps);
-  v("test_interval", c.test_interval);
-  v("checkpoint_interval", c.checkpoint_interval);
+  v("compact_warmup_divisor", k.warmup_divisor, {1, 64});
+  v("compact_warmup_until", k.warmup_until, kIterationCount);
+  v("compact_grow_from", k.grow_from, kIterationCount);
+  v("compact_grow_until", k.grow_until, kIterationCount);
+  v("compact_grow_interval", k.grow_interval, {1, kMaxTrainingIterations});
+  v("compact_grow_grad_threshold", k.grow_grad_threshold, {0, 1});
+  v("compact_grow_max_fraction", k.grow_max_fraction, {0, 16});
+  v("compact_grow_by_sampling", k.grow_by_sampling, kFlag);
+  v("compact_relocate_dead", k.relocate_dead, kFlag);
+  v("compact_prune_opacity", k.prune_opacity, kUnit);
+  v("compact_prune_weight", k.prune_weight, {0, 1e6});
+  v("compact_prune_by_peak_weight", k.prune_by_peak_weight, kFlag);
+  v("compact_prune_weight_after_growth", k.prune_weight_after_growth, {0, 1e6});
+  v("compact_prune_window", k.prune_window, kIterationCount);
+  v("compact_prune_until", k.prune_until, kIterationCount);
+  v("compact_opacity_reset_interval", k.opacity_reset_interval, kIterationCount);
+  v("compact_opacity_reset_value", k.opacity_reset_value, kOpacity);
+  v("compact_opacity_regularization", k.opacity_regularization, {0, 1e3});
+  v("compact_scale_regularization", k.scale_regularization, {0, 1e3});
+  v("compact_noise_lr", k.noise_lr, {0, 1e7});
+  v("refine_poses", c.refine_poses, kFlag);
+  v("pose_refine_from", c.pose_refine_from, kIterationCount);
+  v("pose_rotation_lr", c.pose_rotation_lr, kRate);
+  v("pose_translation_lr", c.pose_translation_lr, kRate);
+  v("pose_lr_final_factor", c.pose_lr_final_factor, kLogScheduleFactor);
+  v("pose_lr_decay_until", c.pose_lr_decay_until, {1e-6, 1});
+  v("pose_pivot_at_scene", c.pose_pivot_at_scene, kFlag);
+  v("pose_adam_beta1", c.pose_adam_beta1, {0, 0.999999});
+  v("pose_hold_frame", c.pose_hold_frame, kFlag);
+  v("exposure_compensation", c.exposure_compensation, kFlag);
+  v("exposure_from", c.exposure_from, kIterationCount);
+  v("exposure_lr", c.exposure_lr, kRate);
+  v("test_pose_alignment_steps", c.test_pose_alignment_steps, {0, 100000});
+  v("test_interval", c.test_interval, kIterationCount);
+  v("checkpoint_interval", c.checkpoint_interval, kIterationCount);
 }
 
 }  // namespace
@@ -167,7 +179,7 @@ nlohmann::json to_json(const SplatTrainingConfig& config) {
   nlohmann::json j;
   j["strategy"] = config.strategy;
   SplatTrainingConfig copy = config;
-  visit_fields(copy, [&](const char* name, auto& value) { j[name] = value; });
+  visit_fields(copy, [&](const char* name, auto& value, const SettingRange&) { j[name] = value; });
   j["alpha_clamp_gradient"] =
       config.alpha_clamp_gradient == AlphaClampGradient::kZero ? "zero" : "straight-through";
   return j;
@@ -181,17 +193,11 @@ void from_json(const nlohmann::json& json, SplatTrainingConfig& config) {
     if (!it->is_string()) throw ArgumentError("training config: strategy must be a string");
     config = splat_training_preset(it->get<std::string>());
   }
-  visit_fields(config, [&](const char* name, auto& value) {
+  visit_fields(config, [&](const char* name, auto& value, const SettingRange& range) {
     auto it = json.find(name);
     if (it == json.end()) return;
     ++known;
-    using T = std::remove_reference_t<decltype(value)>;
-    if constexpr (std::is_same_v<T, bool>) {
-      if (!it->is_boolean()) throw ArgumentError(std::string("training config: ") + name + " must be true or false");
-    } else {
-      if (!it->is_number()) throw ArgumentError(std::string("training config: ") + name + " must be a number");
-    }
-    value = it->get<T>();
+    value = read_setting<std::remove_reference_t<decltype(value)>>(*it, name, range);
   });
   if (auto it = json.find("alpha_clamp_gradient"); it != json.end()) {
     ++known;
@@ -203,7 +209,7 @@ void from_json(const nlohmann::json& json, SplatTrainingConfig& config) {
   if (known != json.size())
     for (auto it = json.begin(); it != json.end(); ++it) {
       bool found = it.key() == "alpha_clamp_gradient" || it.key() == "strategy";
-      visit_fields(config, [&](const char* name, auto&) { found = found || it.key() == name; });
+      visit_fields(config, [&](const char* name, auto&, const SettingRange&) { found = found || it.key() == name; });
       if (!found) throw ArgumentError("training config: unknown setting '" + it.key() + "'");
     }
   config.density.white_background =

@@ -12,6 +12,16 @@
 
 namespace splat {
 
+// Limits of the settings (docs/DESIGN.md §4.7): far beyond any real run, they rule out values
+// that would overflow a counter, stop a run from ever ending, or allocate without bound.
+constexpr int kMaxTrainingIterations = 10'000'000;
+constexpr double kMaxTrainingSeconds = 30.0 * 24 * 3600;  // 30 days
+constexpr double kMaxLearningRate = 1.0;
+// Starting points of a random initialisation: with its optimiser state a Gaussian takes
+// about 1 KB, so this keeps the start under 1 GB.
+constexpr double kMaxRandomInitPoints = 1'000'000;
+constexpr double kMaxGaussiansSetting = 100'000'000;
+
 // The member defaults are the official recipe (strategy "official"); splat_training_preset
 // gives each strategy's own defaults, which is what the command lines start from.
 struct SplatTrainingConfig {

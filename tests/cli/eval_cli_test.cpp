@@ -410,6 +410,48 @@ TEST(EvalCli, MissingDataFolderIsNamedAndLeavesNoOutput) {
   EXPECT_FALSE(fs::exists(dir / "out")) << "output folder created for a failed run";
 }
 
+// --report on result files that are not what splat-eval writes: one line naming the file and
+// the problem (not the JSON library's raw message), and no chart left half-written.
+TEST(EvalCli, ReportOnDamagedResultFilesNamesTheFileAndLeavesNoTemporaryCharts) {
+  const fs::path dir = test::scratch_dir("eval_cli_damaged_report");
+  const std::string method = R"("method": "splat", "final": {"psnr": 20, "ssim": 0.5, "views": 1},
+      "num_params": 10, "model_bytes": 100, "render_ms_per_view_median": 1)";
+  struct Case {
+    const char* name;
+    std::string results;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"empty_history", R"({"methods": [{)" + method + R"(, "history": []}]})", ""},
+      {"history_not_an_array", R"({"methods": [{)" + method + R"(, "history": 7}]})", "results.json: "},
+      {"history_entry_without_seconds", R"({"methods": [{)" + method + R"(, "history": [{"test_psnr": 20}]}]})",
+       "results.json: "},
+      {"no_methods", R"({"data": "x"})", "results.json: "},
+      {"not_json", "{\"methods\": [", "results.json: malformed JSON"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const fs::path out = dir / c.name;
+    fs::create_directories(out);
+    test::write_text(out / "results.json", c.results);
+    const auto r = test::run_command(std::string(SPLAT_EVAL_EXE) + " --report --quiet --out " + out.string(), dir);
+    // An empty history may be drawn without its curve, or refused (this file lacks the other
+    // figures a report shows); either way cleanly.
+    if (std::string(c.expected).empty() && r.exit_code == 0) {
+      EXPECT_TRUE(fs::exists(out / "report.html"));
+    } else {
+      EXPECT_EQ(r.exit_code, 2);
+      EXPECT_EQ(r.err.rfind("error: " + (out / "results.json").string(), 0), 0u) << r.err;
+      EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
+      EXPECT_EQ(r.err.find("[json.exception"), std::string::npos) << r.err;
+      EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    }
+    if (fs::exists(out / "charts"))
+      for (const auto& entry : fs::directory_iterator(out / "charts"))
+        EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
+  }
+}
+
 TEST(EvalCli, RejectsBadOptions) {
   const fs::path dir = test::scratch_dir("eval_cli_options");
   for (const char* bad : {"--max-seconds 0", "--eval-every-seconds -1", "--threads 0", "--bg green",

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
@@ -14,7 +15,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string conformance(const std::string& name) {
-  return (test::shared_dir() / "conformance" / name).string();
+  return (test::conformance_dir() / name).string();
 }
 
 std::string grad_command(const std::string& overrides_view, const std::string& weights,
@@ -48,12 +49,18 @@ TEST(GradCli, MatchesOfficialGradientsThroughTheContract) {
 TEST(GradCli, BadInputsFailCleanly) {
   const fs::path dir = test::scratch_dir("grad_cli_bad");
   test::write_text(dir / "short.f32", std::string(1000, '\0'));
+  // The right size, but one weight is NaN: the loss and every gradient would be NaN.
+  std::string nan_weights = test::read_file(conformance("gradients/W_r_0.f32"));
+  const float nan = std::nanf("");
+  std::memcpy(nan_weights.data() + 4 * 1234, &nan, sizeof(nan));
+  test::write_text(dir / "nan.f32", nan_weights);
   const std::string good_weights = conformance("gradients/W_r_0.f32");
   struct Case {
     std::string command, expected;
   };
   const Case cases[] = {
       {grad_command("--view 0", (dir / "short.f32").string(), dir / "g.f32"), "short.f32"},
+      {grad_command("--view 0", (dir / "nan.f32").string(), dir / "g.f32"), "nan.f32: the weight image: value 1234 is not finite"},
       {grad_command("--view 13", good_weights, dir / "g.f32"), "out of range"},
       {grad_command("--view -1", good_weights, dir / "g.f32"), "out of range"},
       {grad_command("--view 0", (dir / "missing.f32").string(), dir / "g.f32"), "missing.f32"},

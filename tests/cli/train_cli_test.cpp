@@ -256,10 +256,10 @@ TEST(TrainCli, InterruptSavesCheckpointAndModel) {
 
 TEST(TrainCli, DivergenceStopsNamingIterationAndGroup) {
   const fs::path dir = test::scratch_dir("train_cli_diverge");
-  // A position step of ~1e38 per iteration overflows float within a few iterations.
-  test::write_text(dir / "explode.json",
-                   R"({"random_init_points": 2000, "position_lr_init": 1e37, "position_lr_final": 1e37})");
-  const auto r = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --data " + tiny_dataset().string() +
+  // No setting within its limits makes this training blow up, so a mean is made NaN after
+  // step 20 (the fault-injection hook); the divergence check must find it as a real one.
+  test::write_text(dir / "explode.json", R"({"random_init_points": 2000})");
+  const auto r = test::run_command("SPLAT_FAULT_NAN_AT_ITERATION=20 " + std::string(SPLAT_TRAIN_EXE) + " --data " + tiny_dataset().string() +
                                        " --out " + (dir / "out").string() + " --iters 50 --quiet --config " +
                                        (dir / "explode.json").string(),
                                    dir);
@@ -363,12 +363,12 @@ TEST(TrainCli, NerfResumeContinuesExactly) {
 
 TEST(TrainCli, NerfDivergenceStopsNamingIterationAndGroupKeepingAGoodModel) {
   const fs::path dir = test::scratch_dir("train_cli_nerf_diverge");
-  // Adam steps of ~1e37 overflow the networks' activations at once.
-  test::write_text(dir / "explode.json", R"({"lr_init": 1e37, "lr_final": 1e37, "rays_per_batch": 64,
+  // A fine-network weight made NaN after step 20 (the fault-injection hook).
+  test::write_text(dir / "explode.json", R"({"rays_per_batch": 64,
     "model": {"coarse": {"depth": 2, "width": 16, "skip_layer": -1, "color_width": 8},
               "fine": {"depth": 2, "width": 16, "skip_layer": -1, "color_width": 8},
               "coarse_samples": 8, "fine_samples": 8}})");
-  const auto r = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --method nerf --data " +
+  const auto r = test::run_command("SPLAT_FAULT_NAN_AT_ITERATION=20 " + std::string(SPLAT_TRAIN_EXE) + " --method nerf --data " +
                                        tiny_dataset().string() + " --out " + (dir / "out").string() +
                                        " --iters 50 --quiet --config " + (dir / "explode.json").string(),
                                    dir);

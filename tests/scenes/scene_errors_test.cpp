@@ -1,6 +1,10 @@
 // Bad scene inputs each give an InputError that names the file at fault (and the key).
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
+
+#include "cli_support.hpp"
 #include "gltf_mesh.hpp"
 #include "scene_spec.hpp"
 #include "scene_test_files.hpp"
@@ -81,6 +85,13 @@ TEST(SceneErrors, SpecProblemsNameTheFileAndTheKey) {
       {"background", [](nlohmann::json& s) { s["background"] = {1, 2, 0}; }, "background"},
       {"light_type", [](nlohmann::json& s) { s["lights"][0]["type"] = "spot"; }, "lights[0].type"},
       {"missing_gltf", [](nlohmann::json& s) { s.erase("gltf"); }, "gltf"},
+      // Values Embree cannot trace (a radius of 1e19 tripped its assertion) or that overflow
+      // a float (a light of 1e39).
+      {"huge_radius", [](nlohmann::json& s) { s["cameras"]["radius"] = 1e19; }, "cameras.radius"},
+      {"huge_target", [](nlohmann::json& s) { s["cameras"]["target"] = {0, 1e19, 0}; }, "cameras.target"},
+      {"huge_intensity", [](nlohmann::json& s) { s["lights"][0]["intensity"] = 1e39; }, "lights[0].intensity"},
+      {"huge_light_position", [](nlohmann::json& s) { s["lights"][1]["position"] = {1e7, 0, 0}; },
+       "lights[1].position"},
   };
   for (const Case& c : cases) {
     nlohmann::json spec = test::tiny_spec("x.gltf");
@@ -97,6 +108,68 @@ TEST(SceneErrors, SpecProblemsNameTheFileAndTheKey) {
   // The tiny spec itself is fine, comments allowed.
   test::write_text(dir / "ok.json", "// a comment\n" + test::tiny_spec("x.gltf").dump());
   EXPECT_EQ(input_error_of([&] { load_scene_spec(dir / "ok.json"); }), "");
+}
+
+// Damaged glTF files: each is an InputError naming the file and what is wrong, never
+// accepted (as NaN positions, a zero quaternion or a 3-number matrix were) and never a read
+// outside the buffer (as an offset that wraps the sum around could give).
+TEST(SceneErrors, DamagedGltfIsRefusedNamingTheFile) {
+  const fs::path dir = test::scratch_dir("scene_err_gltf_damage");
+  const fs::path good = dir / "good.gltf";
+  test::write_test_gltf(good, test::cube_mesh(0.5f));
+  EXPECT_EQ(input_error_of([&] { load_gltf_mesh(good); }), "");
+  const nlohmann::json original = nlohmann::json::parse(test::read_file(good));
+  const std::string bin = test::read_file(dir / "good.bin");
+  struct Case {
+    const char* name;
+    void (*edit)(nlohmann::json&, std::string&);
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"nan_position",
+       [](nlohmann::json&, std::string& b) {
+         const float nan = std::nanf("");
+         std::memcpy(b.data(), &nan, 4);
+       },
+       "POSITION"},
+      {"inf_position",
+       [](nlohmann::json&, std::string& b) {
+         const float inf = INFINITY;
+         std::memcpy(b.data() + 4, &inf, 4);
+       },
+       "POSITION"},
+      {"negative_accessor_offset", [](nlohmann::json& g, std::string&) { g["accessors"][0]["byteOffset"] = -64; },
+       "accessors[0].byteOffset"},
+      {"huge_accessor_offset",
+       [](nlohmann::json& g, std::string&) { g["accessors"][0]["byteOffset"] = 18446744073709551552.0; }, ""},
+      {"matrix_of_three", [](nlohmann::json& g, std::string&) { g["nodes"][0]["matrix"] = {1, 0, 0}; }, "matrix"},
+      {"zero_quaternion", [](nlohmann::json& g, std::string&) { g["nodes"][0]["rotation"] = {0, 0, 0, 0}; },
+       "rotation"},
+      {"huge_scale", [](nlohmann::json& g, std::string&) { g["nodes"][0]["scale"] = {1e9, 1, 1}; }, "scale"},
+      {"far_vertices",
+       [](nlohmann::json& g, std::string&) {
+         g["nodes"][0]["scale"] = {1e6, 1e6, 1e6};
+         g["nodes"][0]["translation"] = {9e5, 0, 0};
+       },
+       "1e6"},
+      {"metallic_nan_like",
+       [](nlohmann::json& g, std::string&) { g["materials"][0]["pbrMetallicRoughness"]["metallicFactor"] = 7; },
+       "metallic"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    nlohmann::json gltf = original;
+    std::string bytes = bin;
+    c.edit(gltf, bytes);
+    const fs::path file = dir / (std::string(c.name) + ".gltf");
+    gltf["buffers"][0]["uri"] = std::string(c.name) + ".bin";
+    test::write_text(dir / (std::string(c.name) + ".bin"), bytes);
+    test::write_json(file, gltf);
+    const std::string message = input_error_of([&] { load_gltf_mesh(file); });
+    ASSERT_FALSE(message.empty()) << "accepted";
+    expect_contains(message, file.filename().string());
+    expect_contains(message, c.expected);
+  }
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "common/run_main.hpp"
 
+#include <csignal>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -7,6 +8,10 @@
 namespace splat::cli {
 
 int run_main(const std::function<int()>& body) {
+  // Past a file-size limit (ulimit -f) the kernel would kill the process by this signal, in
+  // the middle of a write; ignored, the write fails instead (EFBIG), and the writer reports it
+  // naming the file, with the previous outputs left as they were.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
     return body();
   } catch (const std::bad_alloc&) {

@@ -59,14 +59,15 @@ std::vector<float> read_floats(const fs::path& file, std::size_t expected_count,
   std::ifstream in(file, std::ios::binary);
   in.read(reinterpret_cast<char*>(values.data()), std::streamsize(size));
   if (!in) throw splat::InputError(file, "cannot read the file");
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (!std::isfinite(values[i]))
+      throw splat::InputError(file, what + ": value " + std::to_string(i) + " is not finite");
   return values;
 }
 
 void write_floats(const fs::path& file, const std::vector<float>& values) {
-  splat::write_atomically(file, [&](const fs::path& temp) {
-    std::ofstream out(temp, std::ios::binary);
+  splat::write_stream_atomically(file, [&](std::ostream& out) {
     out.write(reinterpret_cast<const char*>(values.data()), std::streamsize(values.size() * sizeof(float)));
-    if (!out) throw splat::InputError(file, "cannot write the file");
   });
 }
 
