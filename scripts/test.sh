@@ -6,7 +6,10 @@ cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 sanitize="${SPLAT_SANITIZE:-OFF}"
 build_dir="build"
-[ "$sanitize" = "ON" ] && build_dir="build-asan"
+if [ "$sanitize" = "ON" ]; then
+  build_dir="build-asan"
+  export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp:print_suppressions=0"
+fi
 cmake -S . -B "$build_dir" -G Ninja -DSPLAT_SANITIZE="$sanitize" -DCMAKE_BUILD_TYPE=Release
 cmake --build "$build_dir" -j "$(nproc)"
 ctest --test-dir "$build_dir" --output-on-failure -j "$(nproc)"

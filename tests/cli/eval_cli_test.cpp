@@ -349,7 +349,9 @@ TEST(EvalCli, StabilityRunsTheConditionKindsAndNoiseLevelsGiven) {
       eval_command(dir, data, "--stability --methods nerf --stability-conditions refinement --pose-noise 2 --max-seconds 0.3"),
       dir);
   ASSERT_EQ(nerf.exit_code, 0) << nerf.err << nerf.out;
-  for (const auto& c : nlohmann::json::parse(test::read_file(dir / "out" / "stability.json")).at("conditions"))
+  // Parsed into a local: a range-for over .at() of the temporary would read it after it died.
+  const nlohmann::json nerf_only = nlohmann::json::parse(test::read_file(dir / "out" / "stability.json"));
+  for (const auto& c : nerf_only.at("conditions"))
     EXPECT_NE(c.value("skipped", "").find("splat methods"), std::string::npos) << c.dump();
   // The refined runs are judged against the plain splat baseline.
   for (const auto& c : j.at("conditions"))
