@@ -1,0 +1,7 @@
+// Images (read_image through OpenImageIO), as PNG: the format of every dataset here.
+#include "fuzz_support.hpp"
+#include "splat/data/image_io.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  return splat::fuzz::read_input_as("image.png", data, size, [](const auto& f) { splat::read_image(f); });
+}
