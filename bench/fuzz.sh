@@ -30,10 +30,10 @@ for target in "${targets[@]}"; do
   "$build/fuzz/$target" "$corpus" -fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1 \
     -max_total_time="$seconds" -rss_limit_mb=1024 -malloc_limit_mb=1024 -timeout=10 \
     -artifact_prefix="$findings/" -print_final_stats=1 > "$log" 2>&1 || true
-  executions=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | awk '{s += $2} END {print s + 0}')
+  executions=$( (grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" || true) | awk '{s += $2} END {print s + 0}')
   # In fork mode the per-job stats are summed from its "#N" progress lines instead.
   if [ "$executions" = 0 ]; then
-    executions=$(grep -o '^#[0-9]*' "$log" | tr -d '#' | sort -n | tail -1)
+    executions=$( (grep -o '^#[0-9]*' "$log" || true) | tr -d '#' | sort -n | tail -1)
   fi
   found=$(find "$findings" -type f | wc -l)
   total_findings=$((total_findings + found))

@@ -6,6 +6,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace splat;
+  using namespace splat::colmap_detail;
   fuzz::read_input_as("cameras.bin", data, size, [](const auto& f) { read_cameras_binary(f); });
   fuzz::read_input_as("images.bin", data, size, [](const auto& f) { read_images_binary(f); });
   return fuzz::read_input_as("points3D.bin", data, size, [](const auto& f) {

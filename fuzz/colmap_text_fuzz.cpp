@@ -6,6 +6,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace splat;
+  using namespace splat::colmap_detail;
   fuzz::read_input_as("cameras.txt", data, size, [](const auto& f) { read_cameras_text(f); });
   fuzz::read_input_as("images.txt", data, size, [](const auto& f) { read_images_text(f); });
   return fuzz::read_input_as("points3D.txt", data, size, [](const auto& f) {
