@@ -1,4 +1,5 @@
-// Images (read_image through OpenImageIO), as PNG: the format of every dataset here.
+// Images (read_image: PNG through libpng, other formats through OpenImageIO), under a .png
+// name as datasets have them; the seeds include a JPEG.
 #include "fuzz_support.hpp"
 #include "splat/data/image_io.hpp"
 

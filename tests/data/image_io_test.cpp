@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "splat/core/error.hpp"
+#include "cli_support.hpp"
 #include "test_support.hpp"
 
 namespace splat {
@@ -126,6 +127,30 @@ TEST(ImageIo, ReadNonImageNamesItAndPrintsNothing) {
   EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
   EXPECT_NE(png_message.find("notes.png"), std::string::npos) << png_message;
   EXPECT_NE(txt_message.find("notes.txt"), std::string::npos) << txt_message;
+}
+
+// libjpeg fills a truncated JPEG with grey and only leaves a message: that image is not the
+// photograph, so it is an error (one line, naming the file), as a damaged header is.
+TEST(ImageIo, DamagedJpegIsAnErrorNotAGreyPaddedImage) {
+  const fs::path original = fs::path(SPLAT_TEST_DATA_DIR) / "images" / "small.jpg";
+  const Image intact = read_image(original);
+  EXPECT_EQ(intact.width, 32);
+  EXPECT_EQ(intact.channels, 3);
+  const std::string bytes = test::read_file(original);
+  const fs::path dir = test::scratch_dir("image_io_damaged_jpeg");
+  std::string corrupt = bytes;
+  for (std::size_t i = 2; i < 66; ++i) corrupt[i] = char(corrupt[i] ^ 0x55);  // the headers after SOI
+  const std::vector<std::pair<std::string, std::string>> damaged = {
+      {"truncated.jpg", bytes.substr(0, bytes.size() * 3 / 4)}, {"corrupt.jpg", corrupt}};
+  for (const auto& [name, content] : damaged) {
+    const fs::path file = dir / name;
+    test::write_text(file, content);
+    testing::internal::CaptureStderr();
+    const std::string message = input_error_message([&] { read_image(file); });
+    EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+    EXPECT_EQ(message.rfind(file.string() + ": ", 0), 0u) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
 }
 
 TEST(ImageIo, ErrorsDoNotLeakIntoLaterCalls) {

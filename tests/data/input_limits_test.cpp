@@ -11,6 +11,7 @@
 #include "splat/data/image_io.hpp"
 #include "splat/data/transforms_json.hpp"
 #include "cli_support.hpp"
+#include "data/png_bytes.hpp"
 #include "test_support.hpp"
 
 namespace splat {
@@ -18,29 +19,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::uint32_t crc32(const unsigned char* bytes, std::size_t n) {
-  std::uint32_t crc = 0xffffffffu;
-  for (std::size_t i = 0; i < n; ++i) {
-    crc ^= bytes[i];
-    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
-  }
-  return ~crc;
-}
-
-void put_big_endian(std::string& bytes, std::size_t at, std::uint32_t value) {
-  for (int k = 0; k < 4; ++k) bytes[at + std::size_t(k)] = char((value >> (24 - 8 * k)) & 0xff);
-}
-
-// A valid small PNG whose IHDR (with a correct CRC) then claims width x height.
+// A small PNG whose header claims width x height (with a correct CRC), over a few pixels.
 fs::path png_claiming(const fs::path& dir, std::uint32_t width, std::uint32_t height) {
   const fs::path file = dir / "claims.png";
-  write_png(Image(4, 4, 3, 0.5f), file);
-  std::string bytes = test::read_file(file);
-  // signature (8) | length (4) "IHDR" (4) | width (4) height (4) ... | CRC over type + data
-  put_big_endian(bytes, 16, width);
-  put_big_endian(bytes, 20, height);
-  put_big_endian(bytes, 29, crc32(reinterpret_cast<const unsigned char*>(bytes.data()) + 12, 17));
-  test::write_text(file, bytes);
+  test::write_text(file, test::kPngSignature + test::png_ihdr(width, height, 8, 2) +
+                             test::png_idat(std::string(4 * (1 + 4 * 3), '\0')) + test::png_chunk("IEND", ""));
   return file;
 }
 
