@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     }
     const auto& words = args.positionals();
     if (words.size() != 2 || words[0] != "render")
-      throw splat::ArgumentError(std::string("expected \"render SCENE --out DIR\"\n") + kUsage);
+      throw splat::ArgumentError("expected \"render SCENE.json --out DIR\" (see --help)");
     const std::filesystem::path out = args.required("out");
     const auto n = args.integer("threads");
     if (n && *n < 1) throw splat::ArgumentError("--threads must be at least 1");

@@ -2,22 +2,16 @@
 // Trainer settings from a JSON file (splat-train --config, splat-eval --splat-config and
 // --nerf-config): the fields present override `config`.
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "splat/core/error.hpp"
+#include "splat/core/json_file.hpp"
 
 namespace splat::cli {
 
 // The file's JSON; InputError naming the file when it cannot be opened or is not JSON.
 inline nlohmann::json read_config_json(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file, "cannot open the config file");
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(file, std::string("malformed JSON: ") + e.what());
-  }
+  return read_json_file(file, "config file");
 }
 
 // `json` (read from `file`) over `config`; InputError naming the file for an unknown key or a
@@ -27,7 +21,7 @@ void apply_config_json(const std::filesystem::path& file, const nlohmann::json& 
   try {
     from_json(json, config);
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(file, std::string("malformed JSON: ") + e.what());
+    throw InputError(file, json_error_text(e));
   } catch (const ArgumentError& e) {
     throw InputError(file, e.what());
   }

@@ -45,7 +45,8 @@ int main(int argc, char** argv) {
     }
     const auto& files = args.positionals();
     if (files.empty() || files.size() > 2)
-      throw splat::ArgumentError("expected one or two model files\n" + std::string(kUsage));
+      throw splat::ArgumentError("expected one or two model files, got " + std::to_string(args.positionals().size()) +
+                                 " (see --help)");
     splat::viewer::ViewerOptions options;
     options.files.assign(files.begin(), files.end());
 

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "splat/core/error.hpp"
+#include "splat/core/json_file.hpp"
 
 namespace splat::scenes {
 namespace {
@@ -150,14 +151,7 @@ LightSpec read_light(const fs::path& file, const json& object, const std::string
 }  // namespace
 
 SceneSpec load_scene_spec(const fs::path& spec_file) {
-  std::ifstream in(spec_file);
-  if (!in) throw InputError(spec_file, "cannot open the scene spec");
-  json doc;
-  try {
-    doc = json::parse(in, nullptr, true, /*ignore_comments=*/true);
-  } catch (const json::parse_error& e) {
-    throw InputError(spec_file, std::string("not valid JSON: ") + e.what());
-  }
+  const json doc = read_json_file(spec_file, "scene spec", JsonComments::kAllowed);
   const ObjectReader r(spec_file, doc, "");
   r.allow_only({"description", "gltf", "cameras", "lights", "ambient", "background",
                 "samples_per_pixel", "seed"});

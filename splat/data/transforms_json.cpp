@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "splat/core/error.hpp"
+#include "splat/core/json_file.hpp"
 #include "splat/core/image.hpp"
 #include "splat/data/image_io.hpp"
 
@@ -45,21 +46,7 @@ struct RowMajor4x4 {
   double m[4][4];
 };
 
-json parse_file(const fs::path& file) {
-  std::error_code ec;
-  if (!fs::exists(file, ec)) throw InputError(file, "file does not exist");
-  if (fs::is_directory(file, ec)) throw InputError(file, "is a folder, not a JSON file");
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file, "cannot open the file for reading");
-  std::stringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(file, "cannot read the file");
-  try {
-    return json::parse(text.str());
-  } catch (const json::exception& e) {
-    throw InputError(file, std::string("invalid JSON: ") + e.what());
-  }
-}
+json parse_file(const fs::path& file) { return read_json_file(file, "transforms file"); }
 
 // A value looked up in a frame first, then at file level: per-frame intrinsics override the
 // file's (nerfstudio writes them either way). `where` names it for messages.

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "splat/core/atomic_file.hpp"
+#include "splat/core/json_file.hpp"
 #include "splat/core/error.hpp"
 #include "splat/core/setting_value.hpp"
 #include "splat/nerf/positional_encoding.hpp"
@@ -168,13 +169,13 @@ NerfModel read_nerf_from(std::istream& in, const std::filesystem::path& file) {
   try {
     settings = nerf_settings_from_json(nlohmann::json::parse(text));
   } catch (const std::exception& e) {
-    throw InputError(file, std::string("bad settings header: ") + e.what());
+    throw InputError(file, "bad settings header: " + json_error_text(e));
   }
   NerfModel model = [&] {
     try {
       return NerfModel(settings, 0);
     } catch (const std::exception& e) {
-      throw InputError(file, std::string("bad settings header: ") + e.what());
+      throw InputError(file, "bad settings header: " + json_error_text(e));
     }
   }();
   const auto coarse = read_array<float>(in, file, "coarse parameters", model.coarse.parameter_count());

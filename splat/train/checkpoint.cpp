@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "splat/core/atomic_file.hpp"
+#include "splat/core/json_file.hpp"
 #include "splat/core/setting_value.hpp"
 #include "splat/train/splat_trainer.hpp"
 
@@ -132,7 +133,7 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
     rng_state >> rng_;
     if (!rng_state) throw ArgumentError("rng is not a random generator's state");
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(file, std::string("checkpoint header is malformed: ") + e.what());
+    throw InputError(file, "checkpoint header is malformed: " + json_error_text(e));
   } catch (const ArgumentError& e) {
     throw InputError(file, e.what());
   }
@@ -177,7 +178,7 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
   } catch (const ArgumentError& e) {
     throw InputError(file, std::string("checkpoint arrays are inconsistent: ") + e.what());
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(file, std::string("checkpoint header is malformed: ") + e.what());
+    throw InputError(file, "checkpoint header is malformed: " + json_error_text(e));
   }
   last_good_model_ = model_;
 }

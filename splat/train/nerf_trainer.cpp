@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "splat/core/atomic_file.hpp"
+#include "splat/core/json_file.hpp"
 #include "splat/core/random.hpp"
 #include "splat/core/setting_value.hpp"
 #include "splat/nerf/nerf_file.hpp"
@@ -94,7 +95,7 @@ void from_json(const nlohmann::json& j, NerfTrainingConfig& c) {
         throw ArgumentError("unknown NeRF setting \"" + key + "\"");
       }
     } catch (const nlohmann::json::exception& e) {
-      throw ArgumentError("NeRF setting \"" + key + "\": " + e.what());
+      throw ArgumentError("NeRF setting \"" + key + "\": " + json_error_text(e));
     }
   }
   if (box_from_data) c.box_from_data = *box_from_data;

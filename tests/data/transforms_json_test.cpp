@@ -303,8 +303,8 @@ std::string matrix_frame(const std::string& matrix) {
 TEST(TransformsJson, BadInputsThrowInputErrorNamingTheFile) {
   const std::vector<BadInput> cases = {
       {"syntax", R"({"frames": [)", "parse error"},
-      {"trailing_comma", R"({"camera_angle_x": 0.8,})", "invalid JSON"},
-      {"nan_literal", matrix_frame("[[NaN,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]"), "invalid JSON"},
+      {"trailing_comma", R"({"camera_angle_x": 0.8,})", "malformed JSON"},
+      {"nan_literal", matrix_frame("[[NaN,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]"), "malformed JSON"},
       {"top_level_array", "[]", "top level"},
       {"no_frames", R"({"camera_angle_x":0.8})", "missing \"frames\""},
       {"frames_not_array", R"({"camera_angle_x":0.8,"frames":{}})", "\"frames\""},

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "common/arg_parser.hpp"
@@ -30,7 +31,15 @@ splat::Image rgb_of(const splat::Image& image, const std::optional<std::vector<f
 
 double psnr_of_files(const fs::path& a, const fs::path& b,
                      const std::optional<std::vector<float>>& background) {
-  return splat::psnr(rgb_of(splat::read_image(a), background), rgb_of(splat::read_image(b), background));
+  const splat::Image image_a = rgb_of(splat::read_image(a), background);
+  const splat::Image image_b = rgb_of(splat::read_image(b), background);
+  const auto shape = [](const splat::Image& i) {
+    return std::to_string(i.width) + "x" + std::to_string(i.height) + "x" + std::to_string(i.channels);
+  };
+  if (image_a.width != image_b.width || image_a.height != image_b.height || image_a.channels != image_b.channels)
+    throw splat::InputError(b, "is " + shape(image_b) + " but " + a.string() + " is " + shape(image_a) +
+                                   " (after the alpha channel is dropped or composited)");
+  return splat::psnr(image_a, image_b);
 }
 
 }  // namespace
@@ -38,14 +47,21 @@ double psnr_of_files(const fs::path& a, const fs::path& b,
 int main(int argc, char** argv) {
   return splat::cli::run_main([&] {
     splat::cli::ArgParser args(argc, argv, {"bg"}, {"help"});
-    if (args.has("help") || args.positionals().size() != 2) {
+    if (args.has("help")) {
       std::fputs("usage: splat-psnr A B [--bg R,G,B]   (two images, or two folders of same-named\n"
                  "       PNGs; --bg composites RGBA images onto that background first)\n",
-                 args.has("help") ? stdout : stderr);
-      return args.has("help") ? 0 : 2;
+                 stdout);
+      return 0;
     }
+    if (args.positionals().size() != 2)
+      throw splat::ArgumentError("expected two images or two folders, A and B (see --help)");
     const fs::path a = args.positionals()[0], b = args.positionals()[1];
     const std::optional<std::vector<float>> background = args.float_list("bg", 3);
+    for (const fs::path& input : {a, b})
+      if (!fs::exists(input)) throw splat::InputError(input, "does not exist");
+    if (fs::is_directory(a) != fs::is_directory(b))
+      throw splat::InputError(b, fs::is_directory(a) ? "is not a folder, but " + a.string() + " is"
+                                                     : "is a folder, but " + a.string() + " is not");
     if (!fs::is_directory(a)) {
       std::printf("%.3f\n", psnr_of_files(a, b, background));
       return 0;

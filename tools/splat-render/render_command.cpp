@@ -71,6 +71,8 @@ int render_nerf(const RenderCommandOptions& options, const std::vector<CameraFra
 }  // namespace
 
 int run_render_command(const RenderCommandOptions& options) {
+  if (std::filesystem::is_directory(options.model))
+    throw InputError(options.model, "is a folder, not a model file (splat-render reads .ply and .nerf)");
   const std::string extension = options.model.extension().string();
   if (extension != ".ply" && extension != ".nerf")
     throw InputError(options.model, "unsupported model format '" + extension +
