@@ -135,7 +135,9 @@ std::vector<Target> bind_targets(const VertexLayout& layout, GaussianModel& mode
   targets.reserve(layout.columns.size());
   for (std::size_t j = 0; j < layout.columns.size(); ++j) {
     const Column& c = layout.columns[j];
-    targets.push_back({layout.sources[j], (model.*c.array).data() + c.first, c.stride});
+    // An empty model's arrays have no storage: offsetting their null pointer is undefined.
+    std::vector<float>& array = model.*c.array;
+    targets.push_back({layout.sources[j], array.empty() ? nullptr : array.data() + c.first, c.stride});
   }
   return targets;
 }

@@ -98,20 +98,23 @@ inline void write_test_gltf(const std::filesystem::path& gltf, const TestMesh& m
                      {"roughnessFactor", 0.5}}}};
   json doc = {{"asset", {{"version", "2.0"}}},
               {"scene", 0},
-              {"scenes", {{{"nodes", {0}}}}},
-              {"nodes", {{{"mesh", 0}}}},
-              {"meshes", {{{"primitives", {{{"attributes", attributes}, {"indices", indices},
-                                            {"material", 0}}}}}}},
+              {"scenes", json::array({{{"nodes", {0}}}})},
+              {"nodes", json::array({{{"mesh", 0}}})},
+              {"meshes", json::array({{{"primitives", json::array({{{"attributes", attributes},
+                                                                    {"indices", indices},
+                                                                    {"material", 0}}})}}})},
               {"bufferViews", views},
               {"accessors", accessors}};
   if (!texture_uri.empty()) {
     material["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
-    doc["textures"] = {{{"source", 0}}};
-    doc["images"] = {{{"uri", texture_uri}}};
+    doc["textures"] = json::array({{{"source", 0}}});
+    doc["images"] = json::array({{{"uri", texture_uri}}});
   }
-  doc["materials"] = {material};
+  // json::array() spelled out: a braced list of one json value is an array for GCC but a
+  // copy of the value for clang.
+  doc["materials"] = json::array({material});
   const std::string bin_name = gltf.stem().string() + ".bin";
-  doc["buffers"] = {{{"uri", bin_name}, {"byteLength", bytes.size()}}};
+  doc["buffers"] = json::array({{{"uri", bin_name}, {"byteLength", bytes.size()}}});
   std::ofstream(gltf.parent_path() / bin_name, std::ios::binary) << bytes;
   std::ofstream(gltf) << doc.dump(1);
 }

@@ -47,13 +47,14 @@ TEST(InitialModel, AFixedHalfExtentIsTheOfficialCube) {
 
 TEST(InitialModel, ABlenderObjectRigGivesAboutTheOfficialCube) {
   // The NeRF-synthetic rig: cameras 4.03 from the origin, camera_angle_x 0.6911, square
-  // images, RGBA with the object alone: the cube every camera sees is within 5 % of ±1.3.
+  // images, RGBA with the object alone: the cube every camera sees, 4.031 sin(0.6911 / 2) =
+  // 1.3654, is 5.0 % larger than the official ±1.3.
   const Dataset dataset = orbit_dataset(glm::vec3(0.0f), 4.031f, 0.6911f, 80, true);
   InitialisationReport report;
   const GaussianModel model = initial_model(dataset, placed_by_cameras(2000), &report);
   EXPECT_EQ(report.kind, "cube");
   EXPECT_NEAR(report.half_extent, 4.031f * std::sin(0.6911f / 2), 5e-3f);
-  EXPECT_NEAR(report.half_extent, 1.3f, 0.065f);
+  EXPECT_NEAR(report.half_extent, 1.3f, 0.07f);
   EXPECT_EQ(model.size(), 2000u);
 }
 
