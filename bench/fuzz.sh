@@ -1,29 +1,29 @@
 #!/usr/bin/env bash
-# bench/fuzz.sh [SECONDS_PER_TARGET]: builds the libFuzzer targets of fuzz/ with clang (ASan +
-# UBSan, in build-fuzz/), runs each for SECONDS_PER_TARGET (default 60) from its seed corpus in
-# fuzz/corpus/, and prints the executions and findings of each. Exits 1 if anything was found:
-# a crash, a sanitizer report, an exception other than splat::Error, more than 1 GB of memory,
-# or an input taking over 10 s. Findings are kept in build-fuzz/findings/TARGET/; new corpus
-# entries in build-fuzz/corpus/TARGET/ (the committed seeds are not touched).
+# bench/fuzz.sh [SECONDS_PER_TARGET [TARGET...]]: builds the libFuzzer targets of fuzz/ (clang, ASan +
+# UBSan, in build-sanitize/ by scripts/sanitized-build.sh), runs each for SECONDS_PER_TARGET
+# (default 60; TARGETs such as ply_fuzz run only those) from its seed corpus in fuzz/corpus/,
+# and prints the executions and findings of each. Exits 1 if anything was found: a crash, a sanitizer report, an exception other than
+# splat::Error, more than 1 GB of memory, or an input taking over 10 s. Findings are kept in
+# build-sanitize/fuzz-findings/TARGET/; new corpus entries in build-sanitize/fuzz-corpus/TARGET/
+# (the committed seeds are not touched). CI runs it for 10 s per target (scripts/test.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"
-build=build-fuzz
-targets=()
-for source in fuzz/*_fuzz.cpp; do targets+=("$(basename "$source" .cpp)"); done
+build=build-sanitize
+targets=("${@:2}")
+if [ ${#targets[@]} -eq 0 ]; then
+  for source in fuzz/*_fuzz.cpp; do targets+=("$(basename "$source" .cpp)"); done
+fi
 
-CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DSPLAT_FUZZ=ON -DSPLAT_BUILD_TESTS=OFF \
-  -DSPLAT_NATIVE=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo > "$build.configure.log" 2>&1 ||
-  { cat "$build.configure.log"; exit 2; }
-cmake --build "$build" -j "$(nproc)" --target "${targets[@]}"
-
+bash scripts/sanitized-build.sh "${targets[@]}"
+source scripts/sanitizer-options.sh
 export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=1"
-export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 total_findings=0
 printf '%-20s %14s %9s %s\n' target executions findings "corpus"
 for target in "${targets[@]}"; do
   name="${target%_fuzz}"
-  corpus="$build/corpus/$name" findings="$build/findings/$name" log="$build/logs/$name.log"
+  corpus="$build/fuzz-corpus/$name" findings="$build/fuzz-findings/$name" log="$build/fuzz-logs/$name.log"
+  rm -rf "$findings"  # a finding counts in the run that found it
   mkdir -p "$corpus" "$findings" "$(dirname "$log")"
   [ -d "fuzz/corpus/$name" ] && cp -n fuzz/corpus/"$name"/* "$corpus"/ 2>/dev/null || true
   # -fork keeps going after a finding (so one bug does not hide the next) and records each.
@@ -40,7 +40,7 @@ for target in "${targets[@]}"; do
   printf '%-20s %14s %9d %s\n' "$name" "${executions:-0}" "$found" "$(ls "$corpus" | wc -l) inputs"
 done
 if [ "$total_findings" -gt 0 ]; then
-  echo "fuzz: $total_findings finding(s); inputs in $build/findings/, logs in $build/logs/" >&2
+  echo "fuzz: $total_findings finding(s); inputs in $build/fuzz-findings/, logs in $build/fuzz-logs/" >&2
   exit 1
 fi
 echo "fuzz: no findings"

@@ -59,15 +59,15 @@ void add_results_charts(const json& results, std::vector<Chart>& charts) {
       p.points.emplace_back(h.at("seconds"), h.at("test_psnr"));
       s.points.emplace_back(h.at("seconds"), h.at("test_ssim"));
       // Older files may lack the sizes; the NeRF has no Gaussians (0).
-      if (h.contains("model_bytes")) b.points.emplace_back(h["model_bytes"].get<double>() / 1e6, h.at("test_psnr"));
-      if (h.value("num_gaussians", 0.0) > 0) g.points.emplace_back(h["num_gaussians"], h.at("test_psnr"));
+      if (h.contains("model_bytes")) b.points.emplace_back(h.at("model_bytes").get<double>() / 1e6, h.at("test_psnr"));
+      if (h.value("num_gaussians", 0.0) > 0) g.points.emplace_back(h.at("num_gaussians"), h.at("test_psnr"));
     }
     psnr.series.push_back(p);
     ssim.series.push_back(s);
     bytes.series.push_back(b);
     gaussians.series.push_back(g);
     if (m.contains("render_ms_per_view_median"))
-      render.series.push_back({name, "points pt 7 ps 2", {{m["final"]["psnr"], m["render_ms_per_view_median"]}}, {}});
+      render.series.push_back({name, "points pt 7 ps 2", {{m.at("final").at("psnr"), m.at("render_ms_per_view_median")}}, {}});
   }
   for (Chart* c : {&psnr, &ssim, &bytes, &gaussians, &render}) charts.push_back(*c);
 }
@@ -92,9 +92,9 @@ void add_sweep_charts(const json& sweep, std::vector<Chart>& charts) {
     return std::make_pair(r.at("num_gaussians").get<double>(), r.at("final").at("psnr").get<double>());
   }));
   if (sweep.contains("smallest_within")) {
-    const json& r = sweep["runs"][sweep["smallest_within"].get<std::size_t>()];
-    chart.series.push_back({"smallest within " + sweep["within_db"].dump() + " dB of the best", "points pt 6 ps 3 lw 2",
-                            {{r["num_gaussians"], r["final"]["psnr"]}}, {}});
+    const json& r = sweep.at("runs").at(sweep.at("smallest_within").get<std::size_t>());
+    chart.series.push_back({"smallest within " + sweep.at("within_db").dump() + " dB of the best", "points pt 6 ps 3 lw 2",
+                            {{r.at("num_gaussians"), r.at("final").at("psnr")}}, {}});
   }
   charts.push_back(chart);
   // The sweep also belongs on the size and render-time charts, beside the comparison.
@@ -136,7 +136,7 @@ void add_stability_chart(const json& stability, std::vector<Chart>& charts) {
         per_method.push_back({name, std::string("linespoints pt ") + kPointTypes[per_method.size() % 5] + " ps 1.5", {}, {}});
         series = per_method.end() - 1;
       }
-      series->points.emplace_back(x, r.contains("final") ? r["final"]["psnr"].get<double>() : 0.0);
+      series->points.emplace_back(x, r.contains("final") ? r.at("final").at("psnr").get<double>() : 0.0);
       series->labels.push_back(r.at("verdict"));
     }
     ++x;
@@ -144,12 +144,12 @@ void add_stability_chart(const json& stability, std::vector<Chart>& charts) {
   chart.extra += "set xtics (" + tics + ")\n";
   chart.series = per_method;
   if (x > 0 && stability.contains("collapse_psnr")) {
-    const double line = stability["collapse_psnr"];
+    const double line = stability.at("collapse_psnr");
     chart.series.push_back({"collapsed at or below (the background alone + margin)", "lines dt 2 lc 'grey'",
                             {{-0.25, line}, {x - 0.75, line}}, {}});
   }
   if (x > 0 && stability.contains("failure_psnr")) {
-    const double line = stability["failure_psnr"];
+    const double line = stability.at("failure_psnr");
     chart.series.push_back({"failed below (the absolute floor)", "lines dt 3 lc 'red'",
                             {{-0.25, line}, {x - 0.75, line}}, {}});
   }

@@ -46,7 +46,7 @@ std::string seconds(const json& value) {
 std::string megabytes(const json& bytes) { return fixed(bytes.get<double>() / 1e6, 2); }
 
 std::string model_size(const json& m) {
-  return m.contains("num_gaussians") ? std::to_string(m["num_gaussians"].get<long>()) + " Gaussians"
+  return m.contains("num_gaussians") ? std::to_string(m.at("num_gaussians").get<long>()) + " Gaussians"
                                      : std::to_string(m.at("num_params").get<long>()) + " parameters";
 }
 
@@ -68,18 +68,18 @@ void comparison_section(std::ostream& html, const fs::path& out, const json& r) 
           "<th>training (s)</th><th>model</th><th>model file (MB)</th><th>render per view (ms, median)</th>"
           "<th>stopped by</th></tr>\n";
   for (const json& m : r.at("methods")) {
-    html << "<tr><td>" << escaped(method_label(m)) << "</td><td>" << fixed(m["final"]["psnr"], 2) << "</td><td>"
-         << fixed(m["final"]["ssim"], 4) << "</td><td>" << m["iterations"] << "</td><td>"
-         << fixed(m["train_seconds"], 1) << "</td><td>" << model_size(m) << "</td><td>"
-         << megabytes(m["model_bytes"]) << "</td><td>" << fixed(m["render_ms_per_view_median"], 1) << "</td><td>"
-         << escaped(m["stopped_by"]) << "</td></tr>\n";
+    html << "<tr><td>" << escaped(method_label(m)) << "</td><td>" << fixed(m.at("final").at("psnr"), 2) << "</td><td>"
+         << fixed(m.at("final").at("ssim"), 4) << "</td><td>" << m.at("iterations") << "</td><td>"
+         << fixed(m.at("train_seconds"), 1) << "</td><td>" << model_size(m) << "</td><td>"
+         << megabytes(m.at("model_bytes")) << "</td><td>" << fixed(m.at("render_ms_per_view_median"), 1) << "</td><td>"
+         << escaped(m.at("stopped_by")) << "</td></tr>\n";
   }
   html << "</table>\n";
   for (const char* name : {"psnr_vs_time", "ssim_vs_time", "psnr_vs_model_bytes", "psnr_vs_gaussians", "render_ms_vs_psnr"})
     chart(html, out, name);
   std::string panels;
-  for (const json& panel : r["grid"].at("panels")) panels += (panels.empty() ? "" : " | ") + panel.get<std::string>();
-  html << "<h3>Test views</h3>\n<p>Each row: " << escaped(panels) << "; " << escaped(r["grid"]["error_map"])
+  for (const json& panel : r.at("grid").at("panels")) panels += (panels.empty() ? "" : " | ") + panel.get<std::string>();
+  html << "<h3>Test views</h3>\n<p>Each row: " << escaped(panels) << "; " << escaped(r.at("grid").at("error_map"))
        << ".</p>\n";
   // The grids results.json names; a folder from before it named them: what grids/ holds.
   std::vector<std::string> grids;
@@ -97,7 +97,7 @@ void comparison_section(std::ostream& html, const fs::path& out, const json& r) 
 }
 
 void sweep_section(std::ostream& html, const fs::path& out, const json& s) {
-  const long smallest = s.contains("smallest_within") ? s["smallest_within"].get<long>() : -1;
+  const long smallest = s.contains("smallest_within") ? s.at("smallest_within").get<long>() : -1;
   html << "<h2>Model no larger than the scene needs: Gaussian budgets</h2>\n<p>" << escaped(method_label(s)) << " trained "
        << seconds(s.at("budget_seconds")) << " s under each budget (<code>--max-gaussians</code>). Best test PSNR "
        << fixed(s.at("best_psnr"), 2) << " dB; <strong>marked</strong>: the smallest model within "
@@ -106,16 +106,16 @@ void sweep_section(std::ostream& html, const fs::path& out, const json& s) {
           "<th>SSIM</th><th>iterations</th><th>render per view (ms)</th></tr>\n";
   const json& runs = s.at("runs");
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    const json& r = runs[i];
-    html << (long(i) == smallest ? "<tr class=\"mark\">" : "<tr>") << "<td>" << r["max_gaussians"] << "</td>";
+    const json& r = runs.at(i);
+    html << (long(i) == smallest ? "<tr class=\"mark\">" : "<tr>") << "<td>" << r.at("max_gaussians") << "</td>";
     if (!r.contains("final")) {
-      html << "<td colspan=\"6\">diverged at iteration " << r["diverged"]["iteration"] << "</td></tr>\n";
+      html << "<td colspan=\"6\">diverged at iteration " << r.at("diverged").at("iteration") << "</td></tr>\n";
       continue;
     }
-    html << "<td>" << r["num_gaussians"] << "</td><td>" << megabytes(r["model_bytes"]) << "</td><td>"
-         << fixed(r["final"]["psnr"], 2) << (long(i) == smallest ? " &#9664; smallest within" : "") << "</td><td>"
-         << fixed(r["final"]["ssim"], 4) << "</td><td>" << r["iterations"] << "</td><td>"
-         << fixed(r["render_ms_per_view_median"], 1) << "</td></tr>\n";
+    html << "<td>" << r.at("num_gaussians") << "</td><td>" << megabytes(r.at("model_bytes")) << "</td><td>"
+         << fixed(r.at("final").at("psnr"), 2) << (long(i) == smallest ? " &#9664; smallest within" : "") << "</td><td>"
+         << fixed(r.at("final").at("ssim"), 4) << "</td><td>" << r.at("iterations") << "</td><td>"
+         << fixed(r.at("render_ms_per_view_median"), 1) << "</td></tr>\n";
   }
   html << "</table>\n";
   chart(html, out, "sweep_psnr_vs_gaussians");
@@ -125,15 +125,15 @@ void sweep_section(std::ostream& html, const fs::path& out, const json& s) {
 void pose_error_table(std::ostream& html, const json& s) {
   std::ostringstream rows;
   const auto cell = [](const json& e) {
-    return "<td>" + fixed(e["mean_rotation_deg"], 3) + "&deg; / " + fixed(e["mean_translation_percent_of_extent"], 3) +
+    return "<td>" + fixed(e.at("mean_rotation_deg"), 3) + "&deg; / " + fixed(e.at("mean_translation_percent_of_extent"), 3) +
            " %</td>";
   };
   for (const json& c : s.at("conditions"))
     for (const json& r : c.value("runs", json::array()))
-      if (r.contains("pose_refinement") && r["pose_refinement"].contains("pose_error")) {
-        const json& e = r["pose_refinement"]["pose_error"];
-        rows << "<tr><td>" << escaped(c["name"]) << "</td><td>" << escaped(method_label(r)) << "</td>"
-             << cell(e["before"]) << cell(e["after"]) << "</tr>\n";
+      if (r.contains("pose_refinement") && r.at("pose_refinement").contains("pose_error")) {
+        const json& e = r.at("pose_refinement").at("pose_error");
+        rows << "<tr><td>" << escaped(c.at("name")) << "</td><td>" << escaped(method_label(r)) << "</td>"
+             << cell(e.at("before")) << cell(e.at("after")) << "</tr>\n";
       }
   if (rows.str().empty()) return;
   html << "<p>The training cameras' pose error: the mean over the views of the turn and of the centre's offset "
@@ -148,8 +148,8 @@ void stability_section(std::ostream& html, const fs::path& out, const json& s) {
        << s.at("train_views") << " training views); every run trained " << seconds(s.at("budget_seconds"))
        << " s and was scored on the unchanged test views. Verdicts:</p>\n<ul>\n";
   for (const char* verdict : {"diverged", "collapsed", "failed", "degraded", "ok"})
-    if (s["rules"].contains(verdict))  // "failed" is newer than some result files
-      html << "<li><b>" << verdict << "</b>: " << escaped(s["rules"][verdict]) << "</li>\n";
+    if (s.at("rules").contains(verdict))  // "failed" is newer than some result files
+      html << "<li><b>" << verdict << "</b>: " << escaped(s.at("rules").at(verdict)) << "</li>\n";
   // The columns: every method that ran, in the order they first appear (the refinement rows
   // run only the splat methods).
   std::vector<std::string> methods;
@@ -158,7 +158,7 @@ void stability_section(std::ostream& html, const fs::path& out, const json& s) {
     for (const json& r : c.value("runs", json::array())) {
       if (std::find(methods.begin(), methods.end(), method_label(r)) == methods.end())
         methods.push_back(method_label(r));
-      if (r.contains("pose_refinement")) protocol = r["pose_refinement"].value("test_protocol", "");
+      if (r.contains("pose_refinement")) protocol = r.at("pose_refinement").value("test_protocol", "");
     }
   html << "</ul>\n<table><tr><th>condition</th><th>training views</th>";
   for (const std::string& m : methods)
@@ -166,27 +166,27 @@ void stability_section(std::ostream& html, const fs::path& out, const json& s) {
          << " model (MB)</th>";
   html << "</tr>\n";
   for (const json& c : s.at("conditions")) {
-    html << "<tr><td>" << escaped(c["name"]) << "</td>";
+    html << "<tr><td>" << escaped(c.at("name")) << "</td>";
     if (c.contains("skipped")) {
-      html << "<td colspan=\"" << 1 + 3 * methods.size() << "\">not run: " << escaped(c["skipped"]) << "</td></tr>\n";
+      html << "<td colspan=\"" << 1 + 3 * methods.size() << "\">not run: " << escaped(c.at("skipped")) << "</td></tr>\n";
       continue;
     }
-    html << "<td>" << c["train_views"] << "</td>";
+    html << "<td>" << c.at("train_views") << "</td>";
     for (const std::string& m : methods) {
-      const auto run = std::find_if(c["runs"].begin(), c["runs"].end(),
+      const auto run = std::find_if(c.at("runs").begin(), c.at("runs").end(),
                                     [&](const json& r) { return method_label(r) == m; });
-      if (run == c["runs"].end()) {
+      if (run == c.at("runs").end()) {
         html << "<td colspan=\"3\">not run</td>";
         continue;
       }
       const json& r = *run;
-      const std::string verdict = r["verdict"];
+      const std::string verdict = r.at("verdict");
       const std::string shown = r.contains("diverged")
-                                    ? "diverged at iteration " + r["diverged"]["iteration"].dump()
+                                    ? "diverged at iteration " + r.at("diverged").at("iteration").dump()
                                     : verdict;
-      html << "<td>" << (r.contains("final") ? fixed(r["final"]["psnr"], 2) : "&ndash;") << "</td><td class=\""
+      html << "<td>" << (r.contains("final") ? fixed(r.at("final").at("psnr"), 2) : "&ndash;") << "</td><td class=\""
            << verdict << "\">" << escaped(shown) << "</td><td>"
-           << (r.contains("model_bytes") ? megabytes(r["model_bytes"]) : "&ndash;") << "</td>";
+           << (r.contains("model_bytes") ? megabytes(r.at("model_bytes")) : "&ndash;") << "</td>";
     }
     html << "</tr>\n";
   }

@@ -5,6 +5,7 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
+  clang                                  # the sanitizer suite and the fuzz targets (libFuzzer)
   libglm-dev libeigen3-dev libembree-dev
   libopenimageio-dev openimageio-tools   # the OIIO CMake export references its tools
   libpng-dev                             # PNG reading with our own error handlers

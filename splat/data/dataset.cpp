@@ -1,11 +1,13 @@
 #include "splat/data/dataset.hpp"
 
+#include <tbb/parallel_for.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <string>
-
-#include <tbb/parallel_for.h>
 
 #include "splat/core/error.hpp"
 #include "splat/data/dataset_loading.hpp"
@@ -16,6 +18,35 @@ namespace splat {
 namespace dataset_detail {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+double dataset_bytes(const std::vector<ImageSize>& sizes, int downscale) {
+  double bytes = 0;
+  for (const ImageSize& s : sizes) bytes += double(s.width / downscale) * double(s.height / downscale) * 3 * sizeof(float);
+  return bytes;
+}
+
+std::string gigabytes(double bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f GB", bytes / 1e9);
+  return text;
+}
+
+}  // namespace
+
+void check_dataset_fits_in_memory(const fs::path& source, const std::vector<ImageSize>& sizes, int downscale) {
+  const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+  if (!(memory > 0)) return;  // unknown: nothing to compare with
+  const double bytes = dataset_bytes(sizes, downscale);
+  if (bytes <= memory / 2) return;
+  int fits = downscale;
+  while (fits < 64 && dataset_bytes(sizes, fits) > memory / 2) ++fits;
+  throw InputError(source, "its " + std::to_string(sizes.size()) + " images take " + gigabytes(bytes) +
+                               " in memory as float RGB at this size, more than half of this machine's " +
+                               gigabytes(memory) + "; train at a smaller size (--downscale " +
+                               std::to_string(fits) + ": " + gigabytes(dataset_bytes(sizes, fits)) + ")");
+}
 
 Image read_rgb(const fs::path& file, int width, int height, const std::string& size_source,
                const float background[3]) {

@@ -34,6 +34,11 @@ Dataset load_blender(const fs::path& folder, const DatasetOptions& options) {
   const std::vector<CameraFrame> train_frames = load_transforms(train_file);
   const std::vector<CameraFrame> test_frames = load_transforms(test_file);
 
+  std::vector<ImageSize> sizes;
+  for (const auto* frames : {&train_frames, &test_frames})
+    for (const CameraFrame& frame : *frames) sizes.push_back({frame.camera.width, frame.camera.height});
+  check_dataset_fits_in_memory(folder, sizes, options.downscale);
+
   Dataset dataset;
   dataset.train.resize(train_frames.size());
   dataset.test.resize(test_frames.size());

@@ -104,6 +104,13 @@ Dataset load_colmap(const fs::path& folder, const fs::path& sparse_dir,
     covered_regions[camera.id] = covered;
   }
 
+  std::vector<ImageSize> sizes;
+  for (const ColmapImage* image : images) {
+    const ColmapCamera& camera = *model.find_camera(image->camera_id);
+    sizes.push_back({camera.width, camera.height});
+  }
+  check_dataset_fits_in_memory(folder, sizes, options.downscale);
+
   std::vector<DatasetView> views(images.size());
   for_each_in_parallel(images.size(), [&](std::size_t i) {
     const ColmapImage& image = *images[i];

@@ -28,6 +28,17 @@ Image read_rgb(const std::filesystem::path& file, int width, int height,
 // naming `file` when the image is too small for the factor.
 void downscale_view(DatasetView& view, int downscale, const std::filesystem::path& file);
 
+// Every view's image is held in memory as float RGB (12 bytes a pixel) at 1/downscale of
+// `sizes`. InputError naming `source` when that is more than half of this machine's memory
+// (the trainer needs the rest), saying what --downscale would fit; checked before any image
+// is read. (A dataset is the one input whose size has no fixed limit: captures of hundreds of
+// photographs need gigabytes, and may have them.)
+struct ImageSize {
+  int width = 0, height = 0;
+};
+void check_dataset_fits_in_memory(const std::filesystem::path& source, const std::vector<ImageSize>& sizes,
+                                  int downscale);
+
 // Runs job(i) for every i in [0, count) in parallel. If any fail, rethrows the exception of
 // the smallest failing i, so the error reported does not depend on thread timing.
 void for_each_in_parallel(std::size_t count, const std::function<void(std::size_t)>& job);

@@ -430,6 +430,11 @@ TEST(EvalCli, ReportOnDamagedResultFilesNamesTheFileAndLeavesNoTemporaryCharts) 
        "results.json: "},
       {"no_methods", R"({"data": "x"})", "results.json: "},
       {"not_json", "{\"methods\": [", "results.json: malformed JSON"},
+      // Found by the fuzzer (fuzz/regressions/result_json/): a key missing from "grid" was read
+      // through the const operator[], which is undefined behaviour for a missing key.
+      {"grid_without_error_map",
+       test::read_file(fs::path(SPLAT_SOURCE_DIR) / "fuzz/regressions/result_json/grid_without_error_map.json"),
+       "results.json: not a splat-eval result file as expected: key 'error_map' not found"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);

@@ -205,6 +205,21 @@ TEST(DatasetErrors, ColmapWithNothingLeftToTrainOn) {
   EXPECT_EQ(load_error(dir).file(), dir / "sparse" / "0" / "images.txt");
 }
 
+// The images' sizes are known from the transforms before any is read: 2,000 views of
+// 4,096 x 4,096 would take 403 GB as float RGB, more than any machine this runs on has, so
+// the folder is refused at once with a --downscale that fits (none of the images exists).
+TEST(DatasetErrors, ADatasetTooLargeForMemoryNamesTheFolderAndADownscaleThatFits) {
+  const fs::path dir = test::scratch_dir("dataset_error_too_large");
+  test::write_blender_folder(dir, 4, 4, 1, 1);
+  std::string transforms = test::transforms_json("train", "huge", 2000);
+  transforms.replace(0, 1, R"({"w": 4096, "h": 4096, )");
+  test::write_text(dir / "transforms_train.json", transforms);
+  const InputError e = load_error(dir);
+  EXPECT_EQ(e.file(), dir);
+  expect_mentions(e, "its 2001 images take 402.7 GB in memory");
+  expect_mentions(e, "--downscale ");
+}
+
 TEST(DatasetErrors, DownscaleOutOfRange) {
   const fs::path dir = test::scratch_dir("dataset_error_downscale");
   test::write_blender_folder(dir, 4, 4, 1, 1);

@@ -1,0 +1,47 @@
+#pragma once
+// The tiny dataset and trainer settings the checkpoint target loads checkpoints into, shared
+// with make_seed_corpus, which writes seed checkpoints that fit them (a checkpoint for another
+// dataset is refused at its first check, and the fuzzer would rarely get past it).
+#include <string>
+
+#include "splat/data/dataset.hpp"
+#include "splat/train/nerf_trainer.hpp"
+#include "splat/train/splat_trainer.hpp"
+
+namespace splat::fuzz {
+
+// Four 8 x 8 grey views (three to train on) looking down the z axis from z = 4.
+inline const Dataset& tiny_dataset() {
+  static const Dataset dataset = [] {
+    Dataset d;
+    for (int k = 0; k < 4; ++k) {
+      DatasetView view;
+      view.name = "v" + std::to_string(k);
+      view.camera.width = view.camera.height = 8;
+      view.camera.fx = view.camera.fy = 8;
+      view.camera.cx = view.camera.cy = 4;
+      view.camera.camera_from_world_translation = glm::vec3(0.1f * float(k), 0, 4);
+      view.image = Image(8, 8, 3, 0.5f);
+      (k == 3 ? d.test : d.train).push_back(view);
+    }
+    d.scene_extent = 4.4f;
+    return d;
+  }();
+  return dataset;
+}
+
+inline SplatTrainingConfig tiny_splat_config() {
+  SplatTrainingConfig config = splat_training_preset("compact");
+  config.random_init_points = 64;
+  return config;
+}
+
+inline NerfTrainingConfig tiny_nerf_config() {
+  NerfTrainingConfig config;
+  config.model.coarse = {2, 1, 1, 8, -1, 8, DensityActivation::kSoftplus};
+  config.model.fine = {2, 1, 1, 8, -1, 8, DensityActivation::kSoftplus};
+  config.model.occupancy_resolution = 8;
+  return config;
+}
+
+}  // namespace splat::fuzz
