@@ -10,6 +10,9 @@
 namespace splat {
 
 constexpr int kMaxShDegree = 3;
+// The most Gaussians a model file may hold (docs/DESIGN.md §4.1): the official trainer's
+// largest scenes have about 6 million; 2^24 at SH degree 3 is 4 GB of parameters.
+constexpr std::size_t kMaxGaussiansInAFile = std::size_t(1) << 24;
 // Number of SH coefficients per colour channel for a degree: (degree + 1)^2.
 constexpr int sh_coefficient_count(int degree) { return (degree + 1) * (degree + 1); }
 

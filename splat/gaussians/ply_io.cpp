@@ -130,6 +130,12 @@ VertexLayout resolve_vertex_layout(const ply::Header& header, const std::filesys
   return layout;
 }
 
+void check_gaussian_count(std::uint64_t count, const std::filesystem::path& file) {
+  if (count > kMaxGaussiansInAFile)
+    throw InputError(file, "the header declares " + std::to_string(count) + " Gaussians, more than the " +
+                               std::to_string(kMaxGaussiansInAFile) + " a model file may hold");
+}
+
 std::vector<Target> bind_targets(const VertexLayout& layout, GaussianModel& model) {
   std::vector<Target> targets;
   targets.reserve(layout.columns.size());
@@ -177,6 +183,7 @@ GaussianModel read_binary(std::ifstream& in, std::uint64_t file_size, const ply:
   const std::size_t stride = vertex.row_bytes();  // > 0: at least the required floats
   // Checked against the real file size before anything is allocated, so a header that claims
   // billions of vertices fails here instead of exhausting memory.
+  check_gaussian_count(vertex.count, file);
   if (vertex.count > available / stride)
     throw InputError(file, truncated_message(vertex.count, kVertexElement, stride, available));
   const std::size_t n = static_cast<std::size_t>(vertex.count);
@@ -274,6 +281,7 @@ GaussianModel read_ascii(std::ifstream& in, std::uint64_t file_size, const ply::
   // Each value takes at least one character and one separator: reject impossible counts
   // before allocating.
   const std::uint64_t max_rows = (cursor.remaining() + 1) / (2 * values_per_row);
+  check_gaussian_count(vertex.count, file);
   if (vertex.count > max_rows)
     throw InputError(file, "ASCII data is truncated: the header declares " +
                                std::to_string(vertex.count) + " vertices but the data has room "

@@ -372,19 +372,26 @@ TEST_F(PlyBadInput, TruncatedData) {
 }
 
 TEST_F(PlyBadInput, VertexCountExceedingDataIsRejectedBeforeAllocating) {
-  // 4e9 rows of 248 bytes would be about a terabyte: the size check must come first.
+  // 10 million rows of 248 bytes would be 2.5 GB: the size check must come first.
   const std::vector<Prop> props = official_props(3);
   const std::string header = "ply\nformat binary_little_endian 1.0\n" +
-                             element_header("vertex", 4000000000u, props) + "end_header\n";
-  expect_read_error(file_with(header + std::string(16, '\0')), {"truncated", "4000000000"});
-  // A count whose byte size overflows 64 bits.
-  const std::string huge = "ply\nformat binary_little_endian 1.0\n" +
-                           element_header("vertex", std::numeric_limits<std::uint64_t>::max(),
-                                          props) + "end_header\n";
-  expect_read_error(file_with(huge + std::string(16, '\0')), {"truncated"});
+                             element_header("vertex", 10000000u, props) + "end_header\n";
+  expect_read_error(file_with(header + std::string(16, '\0')), {"truncated", "10000000"});
   const std::string ascii = "ply\nformat ascii 1.0\n" +
-                            element_header("vertex", 4000000000u, props) + "end_header\n";
-  expect_read_error(file_with(ascii + "1 2 3\n"), {"truncated", "4000000000"});
+                            element_header("vertex", 10000000u, props) + "end_header\n";
+  expect_read_error(file_with(ascii + "1 2 3\n"), {"truncated", "10000000"});
+}
+
+TEST_F(PlyBadInput, MoreGaussiansThanAFileMayHoldAreRefusedWhateverTheFileSize) {
+  const std::vector<Prop> props = official_props(3);
+  for (const std::uint64_t count : {std::uint64_t(kMaxGaussiansInAFile) + 1, std::uint64_t(4000000000u),
+                                    std::numeric_limits<std::uint64_t>::max()})
+    for (const char* format : {"binary_little_endian", "ascii"}) {
+      const std::string header = std::string("ply\nformat ") + format + " 1.0\n" +
+                                 element_header("vertex", count, props) + "end_header\n";
+      expect_read_error(file_with(header + std::string(16, '\0')),
+                        {std::to_string(count) + " Gaussians, more than the 16777216 a model file may hold"});
+    }
 }
 
 TEST_F(PlyBadInput, MissingRequiredProperty) {
