@@ -5,7 +5,7 @@
 # and prints the executions and findings of each. Exits 1 if anything was found: a crash, a sanitizer report, an exception other than
 # splat::Error, more than 1 GB of memory, or an input taking over 10 s. Findings are kept in
 # build-sanitize/fuzz-findings/TARGET/; new corpus entries in build-sanitize/fuzz-corpus/TARGET/
-# (the committed seeds are not touched). CI runs it for 10 s per target (scripts/test.sh).
+# (the committed seeds are not touched). CI runs it for 5 s per target (scripts/test.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"

@@ -10,7 +10,7 @@ if [ "${1:-}" = "--sanitize" ]; then
   bash scripts/sanitized-build.sh
   source scripts/sanitizer-options.sh
   ctest --test-dir build-sanitize --output-on-failure -j "$(nproc)"
-  bash bench/fuzz.sh "${SPLAT_FUZZ_SECONDS:-10}"
+  bash bench/fuzz.sh "${SPLAT_FUZZ_SECONDS:-5}"
   exit 0
 fi
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
