@@ -8,7 +8,7 @@ PACKAGES=(
   clang                                  # the sanitizer suite and the fuzz targets (libFuzzer)
   libglm-dev libeigen3-dev libembree-dev
   libopenimageio-dev openimageio-tools   # the OIIO CMake export references its tools
-  libpng-dev                             # PNG reading with our own error handlers
+  libpng-dev libjpeg-dev                 # PNG and JPEG reading with our own error handlers
   libtinygltf-dev libglfw3-dev libtbb-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev
   python3                                # scenes/generate (scene assets), bench/history.py

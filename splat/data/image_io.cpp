@@ -15,6 +15,7 @@
 
 #include "splat/core/atomic_file.hpp"
 #include "splat/core/error.hpp"
+#include "splat/data/jpeg_reader.hpp"
 #include "splat/data/png_reader.hpp"
 
 namespace splat {
@@ -61,7 +62,6 @@ struct ImageFormat {
   std::size_t offset = 0;  // where the magic starts
 };
 constexpr ImageFormat kImageFormats[] = {
-    {"jpeg", std::string_view("\xff\xd8\xff", 3)},
     {"tiff", std::string_view("II*\0", 4)},
     {"tiff", std::string_view("MM\0*", 4)},
     {"openexr", std::string_view("\x76\x2f\x31\x01", 4)},
@@ -69,7 +69,7 @@ constexpr ImageFormat kImageFormats[] = {
     {"webp", "WEBP", 8},
     {"hdr", "#?"},
 };
-constexpr const char* kReadableFormats = "PNG, JPEG, TIFF, OpenEXR, BMP, WebP or Radiance HDR";
+constexpr const char* kReadableFormats = "PNG, JPEG, TIFF, OpenEXR, BMP, WebP or Radiance HDR";  // PNG, JPEG: own readers
 
 const char* oiio_format_of(const std::filesystem::path& file) {
   std::ifstream stream(file, std::ios::binary);
@@ -163,6 +163,7 @@ void write_with_oiio(const std::filesystem::path& file, const std::filesystem::p
 
 Image read_image(const std::filesystem::path& file) {
   if (has_png_signature(file)) return read_png(file);
+  if (has_jpeg_signature(file)) return read_jpeg(file);
   auto in = open_input(file);
   const OIIO::ImageSpec& spec = in->spec();
   Image image(spec.width, spec.height, spec.nchannels);
@@ -187,6 +188,10 @@ Image read_image(const std::filesystem::path& file) {
 ImageInfo read_image_info(const std::filesystem::path& file) {
   if (has_png_signature(file)) {
     const PngHeader header = read_png_header(file);
+    return {header.width, header.height, header.channels};
+  }
+  if (has_jpeg_signature(file)) {
+    const JpegHeader header = read_jpeg_header(file);
     return {header.width, header.height, header.channels};
   }
   auto in = open_input(file);

@@ -1,0 +1,27 @@
+#pragma once
+// JPEG files read with libjpeg directly, for the reasons PNGs are (png_reader.hpp) and one
+// more: OpenImageIO 2.4's JPEG reader parses IPTC metadata out of bounds on a damaged file
+// (a heap-buffer-overflow the image fuzz target found). libjpeg here reads only the pixels;
+// every marker we do not need is skipped unread.
+#include <filesystem>
+
+#include "splat/core/image.hpp"
+
+namespace splat {
+
+// True when the file starts with a JPEG's SOI marker and the first marker after it.
+bool has_jpeg_signature(const std::filesystem::path& file);
+
+struct JpegHeader {
+  int width = 0, height = 0, channels = 0;  // 1 (grey) or 3 (RGB)
+};
+
+// The header, checked against the image limits (image.hpp). InputError naming the file.
+JpegHeader read_jpeg_header(const std::filesystem::path& file);
+
+// The pixels as float: code × (1 / 255), as OpenImageIO gives them (libjpeg's default
+// decoding). A file that ends early or has corrupt data is an error, not an image libjpeg
+// padded with grey.
+Image read_jpeg(const std::filesystem::path& file);
+
+}  // namespace splat
