@@ -22,6 +22,11 @@ inline std::string image_size_problem(long long width, long long height) {
   return "";
 }
 
+// An image file's size and channel count, read from its header.
+struct ImageInfo {
+  int width = 0, height = 0, channels = 0;
+};
+
 struct Image {
   int width = 0, height = 0, channels = 0;
   std::vector<float> data;  // [height, width, channels]

@@ -2,6 +2,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -52,26 +53,31 @@ std::string take_error(const T& io) {
   return one_line(io.geterror());
 }
 
-// The formats we read, told apart by their first bytes (PNG has its own reader). OpenImageIO
-// would otherwise try every plugin it has on a file it does not recognise (video through
-// ffmpeg, camera raw, OpenVDB, ...): slow, and far more code exposed to a damaged file than
-// photographs and depth maps need.
+// The formats we read, told apart by their first bytes, whatever the file's name. PNG and
+// JPEG have readers of their own (png_reader.hpp, jpeg_reader.hpp); OpenImageIO reads the
+// rest, each through its one plugin: told nothing, it would try every plugin it has on a file
+// it does not recognise (video through ffmpeg, camera raw, OpenVDB, ...), slow, and far more
+// code exposed to a damaged file than photographs and depth maps need.
+enum class Reader { png, jpeg, oiio };
 struct ImageFormat {
-  const char* oiio_name;
+  Reader reader;
+  const char* oiio_name;  // the OpenImageIO plugin, for Reader::oiio
   std::string_view magic;
   std::size_t offset = 0;  // where the magic starts
 };
 constexpr ImageFormat kImageFormats[] = {
-    {"tiff", std::string_view("II*\0", 4)},
-    {"tiff", std::string_view("MM\0*", 4)},
-    {"openexr", std::string_view("\x76\x2f\x31\x01", 4)},
-    {"bmp", "BM"},
-    {"webp", "WEBP", 8},
-    {"hdr", "#?"},
+    {Reader::png, nullptr, "\x89PNG\r\n\x1a\n"},
+    {Reader::jpeg, nullptr, "\xff\xd8\xff"},  // SOI and the first marker after it
+    {Reader::oiio, "tiff", std::string_view("II*\0", 4)},
+    {Reader::oiio, "tiff", std::string_view("MM\0*", 4)},
+    {Reader::oiio, "openexr", std::string_view("\x76\x2f\x31\x01", 4)},
+    {Reader::oiio, "bmp", "BM"},
+    {Reader::oiio, "webp", "WEBP", 8},
+    {Reader::oiio, "hdr", "#?"},
 };
-constexpr const char* kReadableFormats = "PNG, JPEG, TIFF, OpenEXR, BMP, WebP or Radiance HDR";  // PNG, JPEG: own readers
+constexpr const char* kReadableFormats = "PNG, JPEG, TIFF, OpenEXR, BMP, WebP or Radiance HDR";
 
-const char* oiio_format_of(const std::filesystem::path& file) {
+const ImageFormat& format_of(const std::filesystem::path& file) {
   std::ifstream stream(file, std::ios::binary);
   if (!stream) throw InputError(file, std::string("cannot open the file: ") + std::strerror(errno));
   char head[16] = {};
@@ -80,45 +86,49 @@ const char* oiio_format_of(const std::filesystem::path& file) {
   for (const ImageFormat& format : kImageFormats)
     if (bytes.size() >= format.offset + format.magic.size() &&
         bytes.substr(format.offset, format.magic.size()) == format.magic)
-      return format.oiio_name;
+      return format;
   throw InputError(file, std::string("not an image in a format we read (") + kReadableFormats + ")");
 }
 
 // OpenEXR's header reader allocates each attribute at the size the file states, before
 // reading it (a 1.7 GB allocation from a 60-byte file, found by the image fuzz target): the
 // header's attributes (name, type, 32-bit size, value; an empty name ends them) are walked
-// here first, and a size beyond the file's bytes is an error.
+// here first, and a size beyond the file's bytes is an error. Only the names and sizes are
+// read; the values are skipped.
 void check_exr_attribute_sizes(const std::filesystem::path& file) {
-  std::ifstream stream(file, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
-  std::size_t at = 8;  // magic and version
-  const auto read_name = [&]() -> std::string {
-    const std::size_t end = bytes.find('\0', at);
-    if (end == std::string::npos || end - at > 255) throw InputError(file, "OpenEXR header is truncated or corrupt");
-    std::string name = bytes.substr(at, end - at);
-    at = end + 1;
-    return name;
+  constexpr std::size_t kMaxNameBytes = 255;
+  std::ifstream stream(file, std::ios::binary | std::ios::ate);
+  const auto file_bytes = std::uint64_t(std::max<std::streamoff>(stream.tellg(), 0));
+  std::uint64_t at = 8;  // magic and version
+  stream.seekg(std::streamoff(at));
+  const auto read_name = [&]() -> std::size_t {
+    std::size_t length = 0;
+    for (char c = 0; stream.get(c) && c != '\0'; ++length)
+      if (length == kMaxNameBytes) throw InputError(file, "OpenEXR header is corrupt (a name over 255 bytes)");
+    if (!stream) throw InputError(file, "OpenEXR header is truncated");
+    at += length + 1;
+    return length;
   };
   for (;;) {
-    const std::string name = read_name();
-    if (name.empty()) return;
+    if (read_name() == 0) return;
     (void)read_name();  // the type
-    if (bytes.size() - at < 4) throw InputError(file, "OpenEXR header is truncated");
-    std::uint32_t size = 0;
-    for (int k = 3; k >= 0; --k) size = (size << 8) | std::uint8_t(bytes[at + std::size_t(k)]);  // little-endian
+    unsigned char size_bytes[4] = {};
+    if (!stream.read(reinterpret_cast<char*>(size_bytes), 4)) throw InputError(file, "OpenEXR header is truncated");
     at += 4;
-    if (size > bytes.size() - at)
+    const std::uint32_t size = std::uint32_t(size_bytes[0]) | std::uint32_t(size_bytes[1]) << 8 |
+                               std::uint32_t(size_bytes[2]) << 16 | std::uint32_t(size_bytes[3]) << 24;
+    if (size > file_bytes - at)
       throw InputError(file, "OpenEXR header attribute ending at byte " + std::to_string(at) + " claims " +
                                  std::to_string(size) + " bytes, more than the file has left");
     at += size;
+    stream.seekg(std::streamoff(at));
   }
 }
 
-std::unique_ptr<OIIO::ImageInput> open_input(const std::filesystem::path& file) {
+std::unique_ptr<OIIO::ImageInput> open_input(const std::filesystem::path& file, const char* format) {
   discard_stale_global_error();
   OIIO::ImageSpec config;
   config.attribute(kUnassociatedAlpha, 1);
-  const char* format = oiio_format_of(file);
   if (std::string_view(format) == "openexr") check_exr_attribute_sizes(file);
   auto in = OIIO::ImageInput::create(format, /*do_open=*/false, &config);
   if (!in) throw InputError(file, std::string("no ") + format + " reader: " + take_global_error());
@@ -193,9 +203,10 @@ void write_with_oiio(const std::filesystem::path& file, const std::filesystem::p
 }  // namespace
 
 Image read_image(const std::filesystem::path& file) {
-  if (has_png_signature(file)) return read_png(file);
-  if (has_jpeg_signature(file)) return read_jpeg(file);
-  auto in = open_input(file);
+  const ImageFormat& format = format_of(file);
+  if (format.reader == Reader::png) return read_png(file);
+  if (format.reader == Reader::jpeg) return read_jpeg(file);
+  auto in = open_input(file, format.oiio_name);
   const OIIO::ImageSpec& spec = in->spec();
   Image image(spec.width, spec.height, spec.nchannels);
   // Asking for float makes OpenImageIO map integer codes to [0, 1] (code / max code).
@@ -217,15 +228,10 @@ Image read_image(const std::filesystem::path& file) {
 }
 
 ImageInfo read_image_info(const std::filesystem::path& file) {
-  if (has_png_signature(file)) {
-    const PngHeader header = read_png_header(file);
-    return {header.width, header.height, header.channels};
-  }
-  if (has_jpeg_signature(file)) {
-    const JpegHeader header = read_jpeg_header(file);
-    return {header.width, header.height, header.channels};
-  }
-  auto in = open_input(file);
+  const ImageFormat& format = format_of(file);
+  if (format.reader == Reader::png) return read_png_header(file);
+  if (format.reader == Reader::jpeg) return read_jpeg_header(file);
+  auto in = open_input(file, format.oiio_name);
   const OIIO::ImageSpec& spec = in->spec();
   const ImageInfo info{spec.width, spec.height, spec.nchannels};
   in->close();

@@ -1,21 +1,18 @@
 #pragma once
-// Image files through OpenImageIO.
+// Image files: PNG and JPEG through libpng and libjpeg, the other formats through OpenImageIO.
 #include <filesystem>
 
 #include "splat/core/image.hpp"
 
 namespace splat {
 
-// Reads any format OpenImageIO knows, as float in [0, 1] for integer formats, keeping the
+// Reads PNG, JPEG, TIFF, OpenEXR, BMP, WebP and Radiance HDR (told by the first bytes, not the name), as float in [0, 1] for integer formats, keeping the
 // file's channel count. Values come back exactly as stored: alpha is not premultiplied into
 // the colour (PNG stores straight alpha, and datasets composite it onto a background
 // themselves). Throws InputError naming the file when it cannot be read.
 Image read_image(const std::filesystem::path& file);
 
 // Size and channel count from the file's header, without decoding pixels.
-struct ImageInfo {
-  int width = 0, height = 0, channels = 0;
-};
 ImageInfo read_image_info(const std::filesystem::path& file);
 
 // Writes a PNG (whatever the extension) with values clamped to [0, 1] (NaN becomes 0) and

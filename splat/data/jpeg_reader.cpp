@@ -61,9 +61,9 @@ class JpegDecoder {
   JpegDecoder(const JpegDecoder&) = delete;
   JpegDecoder& operator=(const JpegDecoder&) = delete;
 
-  JpegHeader read_header() {
+  ImageInfo read_header() {
     if (!read_header_or_fail()) fail();
-    const JpegHeader header{int(info_.output_width), int(info_.output_height), info_.output_components};
+    const ImageInfo header{int(info_.output_width), int(info_.output_height), info_.output_components};
     if (const std::string problem = image_size_problem(header.width, header.height); !problem.empty())
       throw InputError(file_, "image size " + std::to_string(header.width) + " x " + std::to_string(header.height) +
                                   ": " + problem);
@@ -71,7 +71,7 @@ class JpegDecoder {
   }
 
   // Call after read_header.
-  Image read_pixels(const JpegHeader& header) {
+  Image read_pixels(const ImageInfo& header) {
     std::vector<JSAMPLE> codes(std::size_t(header.width) * header.height * header.channels);
     if (!read_rows_or_fail(codes.data())) fail();
     if (errors_.library.num_warnings > 0)
@@ -126,14 +126,7 @@ class JpegDecoder {
 
 }  // namespace
 
-bool has_jpeg_signature(const std::filesystem::path& file) {
-  std::ifstream stream(file, std::ios::binary);
-  unsigned char head[3] = {};
-  if (!stream.read(reinterpret_cast<char*>(head), sizeof head)) return false;
-  return head[0] == 0xff && head[1] == 0xd8 && head[2] == 0xff;
-}
-
-JpegHeader read_jpeg_header(const std::filesystem::path& file) {
+ImageInfo read_jpeg_header(const std::filesystem::path& file) {
   JpegDecoder decoder(file);
   return decoder.read_header();
 }

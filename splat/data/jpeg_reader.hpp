@@ -9,15 +9,8 @@
 
 namespace splat {
 
-// True when the file starts with a JPEG's SOI marker and the first marker after it.
-bool has_jpeg_signature(const std::filesystem::path& file);
-
-struct JpegHeader {
-  int width = 0, height = 0, channels = 0;  // 1 (grey) or 3 (RGB)
-};
-
-// The header, checked against the image limits (image.hpp). InputError naming the file.
-JpegHeader read_jpeg_header(const std::filesystem::path& file);
+// The header (1 channel for grey, 3 for colour), checked against the image limits (image.hpp). InputError naming the file.
+ImageInfo read_jpeg_header(const std::filesystem::path& file);
 
 // The pixels as float: code × (1 / 255), as OpenImageIO gives them (libjpeg's default
 // decoding). A file that ends early or has corrupt data is an error, not an image libjpeg

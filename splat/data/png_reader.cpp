@@ -62,9 +62,9 @@ class PngDecoder {
   PngDecoder(const PngDecoder&) = delete;
   PngDecoder& operator=(const PngDecoder&) = delete;
 
-  PngHeader read_header() {
+  ImageInfo read_header() {
     if (!read_header_or_fail()) fail();
-    PngHeader header{int(width_), int(height_), channels_};
+    ImageInfo header{int(width_), int(height_), channels_};
     if (const std::string problem = image_size_problem(width_, height_); !problem.empty())
       throw InputError(file_, "image size " + size_text() + ": " + problem);
     std::error_code ec;
@@ -149,14 +149,7 @@ class PngDecoder {
 
 }  // namespace
 
-bool has_png_signature(const std::filesystem::path& file) {
-  std::ifstream stream(file, std::ios::binary);
-  png_byte signature[8] = {};
-  if (!stream.read(reinterpret_cast<char*>(signature), sizeof signature)) return false;
-  return png_sig_cmp(signature, 0, sizeof signature) == 0;
-}
-
-PngHeader read_png_header(const std::filesystem::path& file) {
+ImageInfo read_png_header(const std::filesystem::path& file) {
   PngDecoder decoder(file);
   return decoder.read_header();
 }

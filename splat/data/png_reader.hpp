@@ -9,17 +9,10 @@
 
 namespace splat {
 
-// True when the file starts with the PNG signature (what it holds, whatever its name).
-bool has_png_signature(const std::filesystem::path& file);
-
-struct PngHeader {
-  int width = 0, height = 0, channels = 0;  // channels after expansion (palette to RGB, tRNS to alpha)
-};
-
-// The header, checked against the image limits (image.hpp) and against the file's size: a
+// The header (channels after expansion: palette to RGB, tRNS to alpha), checked against the image limits (image.hpp) and against the file's size: a
 // header claiming more pixels than its bytes could hold is refused before anything is
 // allocated. Throws InputError naming the file.
-PngHeader read_png_header(const std::filesystem::path& file);
+ImageInfo read_png_header(const std::filesystem::path& file);
 
 // The pixels as float in [0, 1]: code × (1 / max code), the conversion OpenImageIO makes, so
 // every reader gives the same values. Palette images become RGB(A), low bit depths 8-bit

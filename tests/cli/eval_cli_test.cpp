@@ -453,9 +453,10 @@ TEST(EvalCli, ReportOnDamagedResultFilesNamesTheFileAndLeavesNoTemporaryCharts) 
       EXPECT_EQ(r.err.find("[json.exception"), std::string::npos) << r.err;
       EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     }
-    if (fs::exists(out / "charts"))
+    if (fs::exists(out / "charts")) {
       for (const auto& entry : fs::directory_iterator(out / "charts"))
         EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
+    }
   }
 }
 

@@ -64,8 +64,12 @@ TEST(Faults, KilledAtRandomMomentsTheFilesOnDiskLoadAndResumeContinues) {
     const int code = std::stoi(test::read_file(dir / "code"));
     ASSERT_TRUE(code == 0 || code == 128 + 9) << "exit " << code << ": " << test::read_file(dir / "stderr.txt");
     (code == 0 ? finished : killed) += 1;
-    if (fs::exists(out / "model.ply")) EXPECT_NO_THROW(read_ply(out / "model.ply"));
-    if (fs::exists(out / "checkpoint.ckpt")) EXPECT_NO_THROW(checkpoint_iteration());
+    if (fs::exists(out / "model.ply")) {
+      EXPECT_NO_THROW(read_ply(out / "model.ply"));
+    }
+    if (fs::exists(out / "checkpoint.ckpt")) {
+      EXPECT_NO_THROW(checkpoint_iteration());
+    }
   }
   EXPECT_GE(killed, 5);
   EXPECT_GE(finished, 4);

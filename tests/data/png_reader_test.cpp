@@ -133,10 +133,17 @@ TEST_F(PngReader, DamagedFilesAreOneLineNamingTheFileAndLibpngPrintsNothing) {
   }
 }
 
-TEST_F(PngReader, OnlyTheSignatureDecidesThatAFileIsAPng) {
-  EXPECT_TRUE(has_png_signature(write_png_bytes("named.jpg", test::png_file(1, 1, 8, kGrey, repeated_rows("\x01", 1)))));
-  EXPECT_FALSE(has_png_signature(write_png_bytes("named.png", "\xff\xd8\xff not a png")));
-  EXPECT_FALSE(has_png_signature(dir_ / "missing.png"));
+TEST_F(PngReader, TheFirstBytesNotTheNameDecideWhichReaderReadsAFile) {
+  const ImageInfo info = read_image_info(write_png_bytes("named.jpg", test::png_file(1, 1, 8, kGrey, repeated_rows("\x01", 1))));
+  EXPECT_EQ(info.width, 1);
+  EXPECT_EQ(info.channels, 1);
+  const fs::path jpeg_named_png = write_png_bytes("named.png", "\xff\xd8\xff not a jpeg either");
+  try {
+    read_image_info(jpeg_named_png);
+    ADD_FAILURE() << "a damaged JPEG was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("JPEG"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
