@@ -18,6 +18,11 @@ fi
 bash scripts/sanitized-build.sh "${targets[@]}"
 source scripts/sanitizer-options.sh
 export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=1"
+# The targets write each input to a file under TMPDIR: a folder of this run's, removed at the
+# end, so jobs that a finding or a timeout ends abruptly leave nothing in /tmp.
+export TMPDIR="$PWD/$build/fuzz-tmp"
+rm -rf "$TMPDIR" && mkdir -p "$TMPDIR"
+trap 'rm -rf "$TMPDIR"' EXIT
 total_findings=0
 printf '%-20s %14s %9s %s\n' target executions findings "corpus"
 for target in "${targets[@]}"; do

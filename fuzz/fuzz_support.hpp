@@ -11,19 +11,36 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
 
 #include "splat/core/error.hpp"
 
 namespace splat::fuzz {
 
-// A folder of this process's own (libFuzzer may run several jobs side by side).
+// A folder of this process's own under TMPDIR (libFuzzer may run several jobs side by side),
+// removed when the process ends through exit(). libFuzzer's own ends (a finding, a timeout, the
+// end of a replay) skip that, so bench/fuzz.sh and the replay tests point TMPDIR at folders of
+// their own rather than /tmp.
+class ScratchDir {
+ public:
+  ScratchDir() : path_(std::filesystem::temp_directory_path() / ("splat-fuzz-" + std::to_string(::getpid()))) {
+    std::filesystem::create_directories(path_);
+  }
+  ~ScratchDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
 inline const std::filesystem::path& scratch_dir() {
-  static const std::filesystem::path dir = [] {
-    const auto d = std::filesystem::temp_directory_path() / ("splat-fuzz-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    return d;
-  }();
-  return dir;
+  static const ScratchDir dir;
+  return dir.path();
 }
 
 inline void write_bytes(const std::filesystem::path& file, const std::uint8_t* data, std::size_t size) {
