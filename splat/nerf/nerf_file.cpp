@@ -92,6 +92,7 @@ std::vector<T> read_array(std::istream& in, const std::filesystem::path& file, c
 nlohmann::json nerf_settings_json(const NerfSettings& s) {
   return {{"coarse", mlp_json(s.coarse)}, {"fine", mlp_json(s.fine)},
           {"coarse_samples", s.coarse_samples}, {"fine_samples", s.fine_samples},
+          {"render_sample_multiplier", s.render_sample_multiplier},
           {"box_min", {s.box.lo.x, s.box.lo.y, s.box.lo.z}},
           {"box_max", {s.box.hi.x, s.box.hi.y, s.box.hi.z}}, {"unbounded", s.unbounded},
           {"near", s.near}, {"occupancy_resolution", s.occupancy_resolution},
@@ -100,7 +101,7 @@ nlohmann::json nerf_settings_json(const NerfSettings& s) {
 
 NerfSettings nerf_settings_from_json(const nlohmann::json& j) {
   const std::string where = "model";
-  require_known_keys(j, where, {"coarse", "fine", "coarse_samples", "fine_samples", "box_min", "box_max",
+  require_known_keys(j, where, {"coarse", "fine", "coarse_samples", "fine_samples", "render_sample_multiplier", "box_min", "box_max",
                                 "unbounded", "near", "occupancy_resolution", "occupancy_optical_thickness",
                                 "occupancy_threshold", "coarse_parameters", "fine_parameters"});
   NerfSettings s;
@@ -109,6 +110,10 @@ NerfSettings nerf_settings_from_json(const nlohmann::json& j) {
   s.fine = mlp_from_json(j.at("fine"), where + ".fine");
   s.coarse_samples = setting<int>(j, where, "coarse_samples", {1, kMaxNerfSamplesPerRay});
   s.fine_samples = setting<int>(j, where, "fine_samples", {0, kMaxNerfSamplesPerRay});
+  // Absent in files from before it: they render as they always did.
+  s.render_sample_multiplier = 1;
+  if (j.contains("render_sample_multiplier"))
+    s.render_sample_multiplier = setting<int>(j, where, "render_sample_multiplier", {1, kMaxNerfRenderSampleMultiplier});
   const SettingRange coordinate{-kMaxNerfCoordinate, kMaxNerfCoordinate};
   for (const char* key : {"box_min", "box_max"}) {
     const auto it = j.find(key);

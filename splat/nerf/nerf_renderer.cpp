@@ -36,7 +36,7 @@ void fill_inputs(const SceneSpace& space, std::span<const Ray> rays, const std::
 
 void NerfRenderer::place_coarse(const NerfModel& model, std::span<const Ray> rays, bool jitter,
                                 std::mt19937& rng) {
-  const int n = model.settings.coarse_samples;
+  const int n = model.settings.coarse_samples_for(/*evaluation=*/!jitter);
   Pass& pass = coarse_;
   pass.offsets.assign(rays.size() + 1, 0);
   pass.t.clear();

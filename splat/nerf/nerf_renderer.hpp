@@ -27,7 +27,8 @@ namespace splat {
 class NerfRenderer {
  public:
   // Renders `rays`; `jitter` draws sample positions from `rng` (training), otherwise they are
-  // deterministic midpoints (evaluation; `rng` unused). Keeps what backward needs.
+  // deterministic midpoints (evaluation, settings.coarse_samples_for(true) of them; `rng`
+  // unused). Keeps what backward needs.
   void forward(const NerfModel& model, std::span<const Ray> rays, const float background[3],
                bool jitter, std::mt19937& rng);
 

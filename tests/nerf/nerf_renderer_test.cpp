@@ -7,6 +7,8 @@
 #include <random>
 #include <vector>
 
+#include "splat/core/error.hpp"
+#include "splat/nerf/nerf_file.hpp"
 #include "splat/nerf/nerf_renderer.hpp"
 #include "test_support.hpp"
 
@@ -19,6 +21,9 @@ NerfSettings tiny_settings() {
   s.fine = {2, 1, 2, 8, -1, 6, DensityActivation::kSoftplus};
   s.coarse_samples = 8;
   s.fine_samples = 8;
+  // The unjittered renders below then place the samples training does (8 per ray), the
+  // case whose gradients train the networks.
+  s.render_sample_multiplier = 1;
   s.box = {glm::vec3(-1.0f), glm::vec3(1.0f)};
   return s;
 }
@@ -84,6 +89,34 @@ TEST(NerfRenderer, ParameterGradientsMatchFiniteDifferences) {
   double norm = 0;
   for (float v : g_fine) norm += double(v) * v;
   EXPECT_GT(norm, 1e-6);  // the check is not vacuous
+}
+
+TEST(NerfRenderer, EvaluationRendersPlaceTheMultiplierTimesTheCoarseSamples) {
+  NerfSettings settings = tiny_settings();
+  settings.render_sample_multiplier = 3;
+  const NerfModel model(settings, 4);  // every grid cell occupied: no sample dropped
+  const std::vector<Ray> rays = tiny_rays();
+  const float bg[3] = {1, 1, 1};
+  NerfRenderer renderer;
+  std::mt19937 rng(1);
+  renderer.forward(model, rays, bg, /*jitter=*/true, rng);
+  const std::size_t training = renderer.coarse_sample_count();
+  renderer.forward(model, rays, bg, /*jitter=*/false, rng);
+  EXPECT_GT(training, 0u);
+  EXPECT_EQ(renderer.coarse_sample_count(), 3 * training);
+  // Capped at the samples a ray may have.
+  settings.coarse_samples = 600;
+  EXPECT_EQ(settings.coarse_samples_for(/*evaluation=*/true), kMaxNerfSamplesPerRay);
+  EXPECT_EQ(settings.coarse_samples_for(/*evaluation=*/false), 600);
+}
+
+TEST(NerfRenderer, FilesWithoutTheMultiplierRenderAsTheyWereTrained) {
+  nlohmann::json old = nerf_settings_json(NerfSettings{});
+  old.erase("render_sample_multiplier");
+  EXPECT_EQ(nerf_settings_from_json(old).render_sample_multiplier, 1);
+  EXPECT_EQ(nerf_settings_from_json(nerf_settings_json(NerfSettings{})).render_sample_multiplier, 2);
+  old["render_sample_multiplier"] = 17;
+  EXPECT_THROW(nerf_settings_from_json(old), ArgumentError);
 }
 
 TEST(NerfRenderer, SameSeedSameColours) {
