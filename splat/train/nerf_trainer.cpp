@@ -6,7 +6,9 @@
 #include <cmath>
 #include <optional>
 #include <fstream>
+#include <span>
 #include <sstream>
+#include <string>
 
 #include "splat/core/atomic_file.hpp"
 #include "splat/core/json_file.hpp"
@@ -25,20 +27,23 @@ using training::kLastGoodInterval;
 using training::ms_since;
 
 constexpr char kCheckpointMagic[8] = {'S', 'P', 'L', 'N', 'R', 'F', 'C', 'K'};
-constexpr std::uint32_t kCheckpointVersion = 1;
+// Version 2 adds the parameter average; a version-1 checkpoint resumes with the average
+// restarted at its parameters.
+constexpr std::uint32_t kCheckpointVersion = 2;
 
-void write_floats(std::ostream& out, const std::vector<float>& v) {
+void write_floats(std::ostream& out, std::span<const float> v) {
   const std::uint64_t n = v.size();
   out.write(reinterpret_cast<const char*>(&n), sizeof(n));
   out.write(reinterpret_cast<const char*>(v.data()), std::streamsize(n * sizeof(float)));
 }
 
-void read_floats(std::istream& in, std::vector<float>& v, const std::filesystem::path& file) {
+// `what` names the array in the errors ("optimiser state", ...).
+void read_floats(std::istream& in, std::span<float> v, const std::filesystem::path& file, const std::string& what) {
   std::uint64_t n = 0;
   in.read(reinterpret_cast<char*>(&n), sizeof(n));
-  if (!in || n != v.size()) throw InputError(file, "optimiser state does not match the model");
+  if (!in || n != v.size()) throw InputError(file, what + " does not match the model");
   in.read(reinterpret_cast<char*>(v.data()), std::streamsize(n * sizeof(float)));
-  if (!in) throw InputError(file, "truncated optimiser state");
+  if (!in) throw InputError(file, "truncated " + what);
 }
 
 }  // namespace
@@ -50,6 +55,7 @@ nlohmann::json to_json(const NerfTrainingConfig& c) {
           {"seed", c.seed}, {"rays_per_batch", c.rays_per_batch},
           {"lr_init", c.lr_init}, {"lr_final", c.lr_final}, {"lr_decay_iterations", c.lr_decay_iterations},
           {"schedule_follows_budget", c.schedule_follows_budget},
+          {"parameter_average_decay", c.parameter_average_decay},
           {"density_bias_init", c.density_bias_init},
           {"occupancy_warmup", c.occupancy_warmup}, {"occupancy_interval", c.occupancy_interval},
           {"occupancy_cells_per_update", c.occupancy_cells_per_update},
@@ -77,6 +83,7 @@ void from_json(const nlohmann::json& j, NerfTrainingConfig& c) {
       else if (key == "lr_final") c.lr_final = read_setting<double>(value, key, rate);
       else if (key == "lr_decay_iterations") c.lr_decay_iterations = read_setting<int>(value, key, {1, kMaxTrainingIterations});
       else if (key == "schedule_follows_budget") c.schedule_follows_budget = read_setting<bool>(value, key, {});
+      else if (key == "parameter_average_decay") c.parameter_average_decay = read_setting<float>(value, key, {0, 0.99999});
       else if (key == "density_bias_init") c.density_bias_init = read_setting<float>(value, key, {-100, 100});
       else if (key == "occupancy_warmup") c.occupancy_warmup = read_setting<int>(value, key, iterations);
       else if (key == "occupancy_interval") c.occupancy_interval = read_setting<int>(value, key, {1, kMaxTrainingIterations});
@@ -102,7 +109,7 @@ void from_json(const nlohmann::json& j, NerfTrainingConfig& c) {
 }
 
 NerfTrainer::NerfTrainer(const Dataset& dataset, const NerfTrainingConfig& config)
-    : dataset_(dataset), config_(config), model_(config.model, config.seed),
+    : dataset_(dataset), config_(config), model_(config.model, config.seed), averaged_(model_),
       last_good_model_(model_), coarse_adam_(model_.coarse.parameter_count()),
       fine_adam_(model_.fine.parameter_count()), rng_(config.seed) {
   if (dataset.train.empty()) throw ArgumentError("training needs at least one training view");
@@ -110,6 +117,7 @@ NerfTrainer::NerfTrainer(const Dataset& dataset, const NerfTrainingConfig& confi
     const NerfLayerShape& density = mlp->layers()[std::size_t(mlp->density_layer())];
     mlp->parameters()[density.offset + std::size_t(density.in)] = config_.density_bias_init;
   }
+  averaged_ = model_;
   last_good_model_ = model_;
 }
 
@@ -138,6 +146,17 @@ void NerfTrainer::update_occupancy() {
   OccupancyUpdateOptions options;
   options.cells = config_.occupancy_cells_per_update;
   model_.grid.update(density, rng_, options);
+}
+
+void NerfTrainer::update_average() {
+  if (config_.parameter_average_decay <= 0) return;
+  const double t = iteration_;  // steps taken before this one
+  const float d = float(std::min(double(config_.parameter_average_decay), (1 + t) / (10 + t)));
+  const auto move = [d](std::span<const float> live, std::span<float> average) {
+    for (std::size_t i = 0; i < live.size(); ++i) average[i] = d * average[i] + (1 - d) * live[i];
+  };
+  move(model_.coarse.parameters(), averaged_.coarse.parameters());
+  move(model_.fine.parameters(), averaged_.fine.parameters());
 }
 
 StepResult NerfTrainer::step() {
@@ -190,19 +209,24 @@ StepResult NerfTrainer::step() {
   coarse_adam_.step(model_.coarse.parameters(), coarse_grad_, lr);
   fine_adam_.step(model_.fine.parameters(), fine_grad_, lr);
   check_finite(iteration);
-  if (iteration % kLastGoodInterval == 0) last_good_model_ = model_;
   result.timings.optimizer = ms_since(start);
 
   start = Clock::now();
-  if (iteration >= config_.occupancy_warmup && iteration % config_.occupancy_interval == 0)
+  if (iteration >= config_.occupancy_warmup && iteration % config_.occupancy_interval == 0) {
     update_occupancy();
+    averaged_.grid = model_.grid;  // the average renders through the live grid
+  }
   result.timings.densify = ms_since(start);  // the grid update is this method's "densify"
+  start = Clock::now();
+  update_average();
+  if (iteration % kLastGoodInterval == 0) last_good_model_ = model();
+  result.timings.optimizer += ms_since(start);
   iteration_ = iteration;
   return result;
 }
 
 Image NerfTrainer::render(const Camera& camera) {
-  Image image = renderer_.render_image(model_, camera, config_.background);
+  Image image = renderer_.render_image(model(), camera, config_.background);
   for (float& v : image.data) v = std::clamp(v, 0.0f, 1.0f);
   return image;
 }
@@ -237,6 +261,8 @@ void NerfTrainer::save_checkpoint(const std::filesystem::path& file) const {
     write_floats(out, coarse_adam_.second_moment());
     write_floats(out, fine_adam_.first_moment());
     write_floats(out, fine_adam_.second_moment());
+    write_floats(out, averaged_.coarse.parameters());
+    write_floats(out, averaged_.fine.parameters());
   });
 }
 
@@ -249,7 +275,7 @@ void NerfTrainer::load_checkpoint(const std::filesystem::path& file) {
   in.read(reinterpret_cast<char*>(&version), sizeof(version));
   if (!in || std::memcmp(magic, kCheckpointMagic, sizeof(magic)) != 0)
     throw InputError(file, "not a NeRF checkpoint");
-  if (version != kCheckpointVersion) throw InputError(file, "unsupported NeRF checkpoint version");
+  if (version < 1 || version > kCheckpointVersion) throw InputError(file, "unsupported NeRF checkpoint version");
   std::int64_t iteration = 0, steps = 0;
   std::uint64_t rng_length = 0;
   in.read(reinterpret_cast<char*>(&iteration), sizeof(iteration));
@@ -265,17 +291,23 @@ void NerfTrainer::load_checkpoint(const std::filesystem::path& file) {
   if (!(model.settings.coarse == config_.model.coarse) || !(model.settings.fine == config_.model.fine))
     throw InputError(file, "the checkpoint's networks differ from this run's settings");
   FlatAdam coarse_adam(model.coarse.parameter_count()), fine_adam(model.fine.parameter_count());
-  read_floats(in, coarse_adam.first_moment(), file);
-  read_floats(in, coarse_adam.second_moment(), file);
-  read_floats(in, fine_adam.first_moment(), file);
-  read_floats(in, fine_adam.second_moment(), file);
+  read_floats(in, coarse_adam.first_moment(), file, "optimiser state");
+  read_floats(in, coarse_adam.second_moment(), file, "optimiser state");
+  read_floats(in, fine_adam.first_moment(), file, "optimiser state");
+  read_floats(in, fine_adam.second_moment(), file, "optimiser state");
   coarse_adam.set_steps(steps);
   fine_adam.set_steps(steps);
+  NerfModel averaged = model;
+  if (version >= 2) {
+    read_floats(in, averaged.coarse.parameters(), file, "parameter average");
+    read_floats(in, averaged.fine.parameters(), file, "parameter average");
+  }
   std::istringstream rng_text(rng);
   std::mt19937 restored_rng;
   rng_text >> restored_rng;
   if (!rng_text) throw InputError(file, "bad random state in the checkpoint");
   model_ = std::move(model);
+  averaged_ = std::move(averaged);
   last_good_model_ = std::move(last_good);
   coarse_adam_ = std::move(coarse_adam);
   fine_adam_ = std::move(fine_adam);

@@ -53,6 +53,15 @@ struct NerfTrainingConfig {
   int occupancy_warmup = 16;
   int occupancy_interval = 16;             // iterations between grid updates
   std::size_t occupancy_cells_per_update = 1 << 16;
+  // The model a run scores and saves is an exponential moving average of the parameters
+  // Adam steps through (Polyak averaging): the last steps, even at lr_final, scatter the
+  // networks around the minimum by their gradient noise, and their mean sits nearer to it.
+  // Each step the average moves (1 − d) of the way to the parameters, d = min(this,
+  // (1 + t)/(10 + t)) at step t, so a short run averages over about its last tenth and a long
+  // one over the last ~1/(1 − this) steps. 0 = off (the model is Adam's iterate). lego400,
+  // 15-minute runs, the average against the iterate from the same run: bench/README.md,
+  // issue 16.
+  float parameter_average_decay = 0.998f;
   int test_interval = 2000;       // iterations between test evaluations (0 = end only)
   int checkpoint_interval = 5000;  // iterations between checkpoints (0 = none)
   // Where rays sample follows the dataset (the cameras, or the point cloud:
@@ -82,7 +91,11 @@ class NerfTrainer {
   int iteration() const { return iteration_; }
   // The share of the time budget spent (the training loop sets it before each step).
   void set_time_budget_fraction(double fraction) { time_budget_fraction_ = fraction; }
-  const NerfModel& model() const { return model_; }
+  // The run's model: the parameter average (parameter_average_decay) with the live grid, or
+  // Adam's iterate when averaging is off. What is scored, saved and checkpointed as the model.
+  const NerfModel& model() const { return config_.parameter_average_decay > 0 ? averaged_ : model_; }
+  // The parameters Adam steps (the same as model() without averaging).
+  const NerfModel& iterate() const { return model_; }
   const NerfModel& last_good_model() const { return last_good_model_; }
   const NerfTrainingConfig& config() const { return config_; }
   void check_parameters_finite() const { check_finite(iteration_); }
@@ -98,10 +111,12 @@ class NerfTrainer {
   // Throws TrainingDiverged naming `iteration` and the first network with a non-finite value.
   void check_finite(int iteration) const;
   void update_occupancy();
+  // Moves averaged_'s parameters toward model_'s (parameter_average_decay's rule).
+  void update_average();
 
   const Dataset& dataset_;
   NerfTrainingConfig config_;
-  NerfModel model_, last_good_model_;
+  NerfModel model_, averaged_, last_good_model_;
   FlatAdam coarse_adam_, fine_adam_;
   std::mt19937 rng_;
   int iteration_ = 0;

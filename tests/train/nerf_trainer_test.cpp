@@ -3,7 +3,9 @@
 // decays over a time budget when there is one.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "splat/core/error.hpp"
 #include "splat/data/orbit_cameras.hpp"
@@ -80,6 +82,43 @@ TEST(NerfTrainer, LearningRateDecaysOverTheTimeBudget) {
     for (int i = 0; i < 3; ++i) by_iterations.step();
     EXPECT_NEAR(by_iterations.learning_rate(), config.lr_final, 1e-9);
   }
+}
+
+// The model a run scores and saves is the average of Adam's iterates: after each step it
+// moves (1 − d) of the way to the iterate, d = min(decay, (1 + t)/(10 + t)) at step t.
+TEST(NerfTrainer, TheModelIsTheRunningAverageOfTheIterates) {
+  const Dataset dataset = small_dataset();
+  NerfTrainingConfig config = small_config(-3.0f);
+  config.rays_per_batch = 64;
+  config.parameter_average_decay = 0.3f;  // reached at t = 3: both sides of the min are used
+  config.occupancy_warmup = config.occupancy_interval = 4;  // a grid update within the steps
+  NerfTrainer trainer(dataset, config);
+  const auto parameters = [](const NerfModel& m) {
+    std::vector<float> p(m.coarse.parameters().begin(), m.coarse.parameters().end());
+    p.insert(p.end(), m.fine.parameters().begin(), m.fine.parameters().end());
+    return p;
+  };
+  std::vector<float> expected = parameters(trainer.iterate());
+  ASSERT_EQ(parameters(trainer.model()), expected);
+  for (int t = 0; t < 6; ++t) {
+    trainer.step();
+    const float d = std::min(0.3f, float((1.0 + t) / (10.0 + t)));
+    const std::vector<float> iterate = parameters(trainer.iterate());
+    for (std::size_t i = 0; i < expected.size(); ++i) expected[i] = d * expected[i] + (1 - d) * iterate[i];
+    ASSERT_EQ(parameters(trainer.model()), expected) << "after step " << t + 1;
+    ASSERT_NE(parameters(trainer.model()), iterate) << "after step " << t + 1;
+  }
+  // The average renders through the iterate's grid, updated at step 4.
+  EXPECT_GT(*std::max_element(trainer.iterate().grid.values().begin(), trainer.iterate().grid.values().end()), 0.0f);
+  EXPECT_TRUE(std::equal(trainer.model().grid.values().begin(), trainer.model().grid.values().end(),
+                         trainer.iterate().grid.values().begin()));
+
+  // Off: the model is the iterate.
+  config.parameter_average_decay = 0;
+  NerfTrainer plain(dataset, config);
+  for (int t = 0; t < 3; ++t) plain.step();
+  EXPECT_EQ(&plain.model(), &plain.iterate());
+  EXPECT_THROW(from_json(nlohmann::json{{"parameter_average_decay", 1.0}}, config), ArgumentError);
 }
 
 TEST(NerfTrainer, RejectsANonFiniteDensityBias) {
