@@ -1,10 +1,14 @@
 // splat-train --data DIR --out DIR [--method splat|nerf] [--iters N] [--max-seconds S]
 //             [--bg white|black] [--seed N] [--threads N] [--downscale K] ...
 #include <cstdio>
+#include <exception>
+#include <memory>
+#include <string>
 
 #include "common/arg_parser.hpp"
 #include "common/run_main.hpp"
 #include "config_file.hpp"
+#include "mpi_process_group.hpp"
 #include "splat/core/error.hpp"
 #include "train_command.hpp"
 
@@ -33,6 +37,8 @@ DIR/test/<view>.png, DIR/config.json and DIR/checkpoint.ckpt.
   --threads N           worker threads (default: all cores)
   --downscale K         train and evaluate at 1/K of the image size (default 1)
   --max-gaussians N     Gaussian budget: densification never exceeds it (default: none)
+  --batch B             views per optimiser step, the loss their mean (default 1); iterations
+                        still count views, so --iters must be a multiple of B
   --refine-poses        optimise a correction of every training view's pose with the scene
                         (for poses with some error, as estimated ones have); the test views
                         are then aligned to their photographs with the model fixed before
@@ -78,56 +84,80 @@ void apply_options(const splat::cli::ArgParser& args, Config& config,
   }
 }
 
+// splat-train's work in this process (alone, or one rank of a data-parallel run).
+int train_main(int argc, char** argv, splat::ProcessGroup* ranks) {
+  splat::cli::ArgParser args(argc, argv,
+                             {"data", "out", "method", "strategy", "iters", "max-seconds", "bg", "seed",
+                              "threads", "downscale", "max-gaussians", "batch", "test-every",
+                              "checkpoint-every", "resume", "config"},
+                             {"help", "quiet", "refine-poses", "exposure-compensation"});
+  if (args.has("help")) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  args.expect_no_positionals();
+  splat::cli::TrainCommandOptions options;
+  options.data = args.required("data");
+  options.out = args.required("out");
+  options.method = args.value("method").value_or("splat");
+  if (options.method != "splat" && options.method != "nerf")
+    throw splat::ArgumentError("--method must be splat or nerf, got '" + options.method + "'");
+  if (options.method == "nerf") {
+    if (args.value("max-gaussians"))
+      throw splat::ArgumentError("--max-gaussians is a splat setting; --method nerf has no Gaussians");
+    if (args.value("strategy"))
+      throw splat::ArgumentError("--strategy is a splat setting; --method nerf has no density control");
+    if (args.has("refine-poses"))
+      throw splat::ArgumentError("--refine-poses is a splat setting; the NeRF does not refine poses");
+    if (args.has("exposure-compensation"))
+      throw splat::ArgumentError("--exposure-compensation is a splat setting; the NeRF has no exposure maps");
+    if (args.value("batch"))
+      throw splat::ArgumentError("--batch is a splat setting; the NeRF's steps are batches of rays (rays_per_batch)");
+    apply_options(args, options.nerf_config, options);
+    // A time budget is the NeRF's limit (its rate decays over it): its default iteration
+    // count, a limit for runs without one, does not cut it short.
+    if (args.value("max-seconds") && !args.value("iters") &&
+        options.nerf_config.iterations == splat::NerfTrainingConfig{}.iterations)
+      options.nerf_config.iterations = splat::kNerfIterationsUnderBudget;
+  } else {
+    const auto strategy = args.value("strategy");
+    options.config = splat::splat_training_preset(strategy.value_or("compact"));
+    apply_options(args, options.config, options);
+    if (strategy && options.config.strategy != *strategy)
+      throw splat::ArgumentError("--strategy " + *strategy + " conflicts with the config file's strategy '" +
+                                 options.config.strategy + "'");
+    if (auto n = args.positive_integer("max-gaussians")) options.config.density.max_gaussians = std::size_t(*n);
+    if (auto n = args.positive_integer("batch")) options.config.batch = *n;
+    if (args.has("refine-poses")) options.config.refine_poses = true;
+    if (args.has("exposure-compensation")) options.config.exposure_compensation = true;
+  }
+  if (auto n = args.positive_integer("threads")) options.threads = *n;
+  if (auto k = args.positive_integer("downscale")) options.dataset.downscale = *k;
+  if (auto r = args.value("resume")) options.resume = *r;
+  options.quiet = args.has("quiet") || (ranks && ranks->rank() != 0);  // rank 0 reports
+  options.group = ranks;
+  return splat::cli::run_train_command(options);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  return splat::cli::run_main([&] {
-    splat::cli::ArgParser args(argc, argv,
-                               {"data", "out", "method", "strategy", "iters", "max-seconds", "bg", "seed",
-                                "threads", "downscale", "max-gaussians", "test-every",
-                                "checkpoint-every", "resume", "config"},
-                               {"help", "quiet", "refine-poses", "exposure-compensation"});
-    if (args.has("help")) {
-      std::fputs(kUsage, stdout);
-      return 0;
+  // Under an MPI launcher, the ranks of a data-parallel run (mpi_process_group.hpp).
+  std::unique_ptr<splat::ProcessGroup> ranks;
+  const int status = splat::cli::run_main([&] {
+    ranks = splat::cli::join_launched_ranks(argc, argv);
+    if (ranks && ranks->size() > 1) {
+      try {
+        return train_main(argc, argv, ranks.get());
+      } catch (const std::exception& e) {  // name the rank that failed
+        throw splat::Error("rank " + std::to_string(ranks->rank()) + " of " + std::to_string(ranks->size()) +
+                           ": " + e.what());
+      }
     }
-    args.expect_no_positionals();
-    splat::cli::TrainCommandOptions options;
-    options.data = args.required("data");
-    options.out = args.required("out");
-    options.method = args.value("method").value_or("splat");
-    if (options.method != "splat" && options.method != "nerf")
-      throw splat::ArgumentError("--method must be splat or nerf, got '" + options.method + "'");
-    if (options.method == "nerf") {
-      if (args.value("max-gaussians"))
-        throw splat::ArgumentError("--max-gaussians is a splat setting; --method nerf has no Gaussians");
-      if (args.value("strategy"))
-        throw splat::ArgumentError("--strategy is a splat setting; --method nerf has no density control");
-      if (args.has("refine-poses"))
-        throw splat::ArgumentError("--refine-poses is a splat setting; the NeRF does not refine poses");
-      if (args.has("exposure-compensation"))
-        throw splat::ArgumentError("--exposure-compensation is a splat setting; the NeRF has no exposure maps");
-      apply_options(args, options.nerf_config, options);
-      // A time budget is the NeRF's limit (its rate decays over it): its default iteration
-      // count, a limit for runs without one, does not cut it short.
-      if (args.value("max-seconds") && !args.value("iters") &&
-          options.nerf_config.iterations == splat::NerfTrainingConfig{}.iterations)
-        options.nerf_config.iterations = splat::kNerfIterationsUnderBudget;
-    } else {
-      const auto strategy = args.value("strategy");
-      options.config = splat::splat_training_preset(strategy.value_or("compact"));
-      apply_options(args, options.config, options);
-      if (strategy && options.config.strategy != *strategy)
-        throw splat::ArgumentError("--strategy " + *strategy + " conflicts with the config file's strategy '" +
-                                   options.config.strategy + "'");
-      if (auto n = args.positive_integer("max-gaussians")) options.config.density.max_gaussians = std::size_t(*n);
-      if (args.has("refine-poses")) options.config.refine_poses = true;
-      if (args.has("exposure-compensation")) options.config.exposure_compensation = true;
-    }
-    if (auto n = args.positive_integer("threads")) options.threads = *n;
-    if (auto k = args.positive_integer("downscale")) options.dataset.downscale = *k;
-    if (auto r = args.value("resume")) options.resume = *r;
-    options.quiet = args.has("quiet");
-    return splat::cli::run_train_command(options);
+    return train_main(argc, argv, ranks.get());
   });
+  // A rank that failed alone would leave the others waiting in the next exchange: end them
+  // all (a run that stopped everywhere at once, by an interrupt, returns normally).
+  if (ranks && ranks->size() > 1 && status != 0 && status != 130) splat::cli::abort_all_ranks(status);
+  return status;
 }

@@ -14,6 +14,7 @@
 #include "progress_reporter.hpp"
 #include "splat/core/atomic_file.hpp"
 #include "splat/data/image_io.hpp"
+#include "splat/optim/step_events.hpp"
 #include "splat/gaussians/ply_io.hpp"
 #include "splat/train/splat_trainer.hpp"
 #include "trainer_adapter.hpp"
@@ -64,6 +65,7 @@ nlohmann::json timings_json(const IterationTimings& t, int count) {
   for (const auto& [name, field] : IterationTimings::kFields) j[name] = t.*field / n;
   if (t.project + t.bin_sort + t.blend + t.blend_backward + t.project_backward == 0)
     for (const char* part : {"project", "bin_sort", "blend", "blend_backward", "project_backward"}) j.erase(part);
+  if (t.exchange == 0) j.erase("exchange");  // one process
   j["total"] = t.total() / n;
   return j;
 }
@@ -73,7 +75,9 @@ class TrainingRun final : public TrainingObserver {
  public:
   TrainingRun(const TrainCommandOptions& options, const Dataset& dataset)
       : options_(options), dataset_(dataset), trainer_(make_trainer(options, dataset)),
-        schedule_(trainer_->schedule()), progress_(isatty(STDOUT_FILENO) && !options.quiet) {}
+        schedule_(trainer_->schedule()), progress_(isatty(STDOUT_FILENO) && !options.quiet) {
+    trainer_->set_process_group(options.group);
+  }
 
   int run();
   void on_step(const StepResult& step, const LoopState& state) override;
@@ -83,6 +87,12 @@ class TrainingRun final : public TrainingObserver {
   void write_outputs(const std::string& stopped_by, double train_seconds);
   nlohmann::json metrics(const std::string& stopped_by, double train_seconds, std::size_t model_bytes) const;
   std::filesystem::path model_path() const { return options_.out / trainer_->model_file_name(); }
+  // Whether this process writes the outputs: alone, or rank 0 of a data-parallel run.
+  bool leads() const { return options_.group == nullptr || options_.group->rank() == 0; }
+  // Waits for every rank (a data-parallel run ends together, after rank 0's outputs).
+  void finish_together() const {
+    if (options_.group) options_.group->any(false);
+  }
 
   const TrainCommandOptions& options_;
   const Dataset& dataset_;
@@ -102,14 +112,15 @@ void TrainingRun::on_step(const StepResult& step, const LoopState& state) {
   whole_run_.add(step);
   last_loss_ = step.loss;
   const int it = state.iteration;
-  if (it % kHistoryInterval == 0 || it == schedule_.iterations) {
+  const int views = schedule_.views_per_step;
+  if (step_reaches_multiple(it, views, kHistoryInterval) || it == schedule_.iterations) {
     history_.push_back({{"iteration", it}, {"seconds", state.train_seconds},
                         {"loss", window_.loss / std::max(1, window_.count)},
                         {"num_gaussians", trainer_->num_gaussians()},
                         {"ms_per_iteration", timings_json(window_.timings, window_.count)}});
     window_ = WindowAverages{};
   }
-  if (schedule_.checkpoint_interval > 0 && it % schedule_.checkpoint_interval == 0)
+  if (leads() && step_reaches_multiple(it, views, schedule_.checkpoint_interval))
     trainer_->save_checkpoint(options_.out / kCheckpointName);
   if (!options_.quiet) {
     ProgressSnapshot s;
@@ -164,7 +175,7 @@ int TrainingRun::run() {
       progress_.message("resumed from " + file.string() + " at iteration " +
                         std::to_string(trainer_->iteration()));
   }
-  write_json(options_.out / "config.json", trainer_->config_json());
+  if (leads()) write_json(options_.out / "config.json", trainer_->config_json());
 
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
@@ -178,20 +189,29 @@ int TrainingRun::run() {
   // official trainer's report at iteration N sees. Scored after them instead, fresh
   // splits and reset opacities would depress every test point that falls on a
   // densification (all multiples of 100 up to 15,000).
-  loop.score_every_iterations = schedule_.test_interval;
+  loop.score_every_iterations = leads() ? schedule_.test_interval : 0;  // rank 0 scores
+  loop.views_per_step = schedule_.views_per_step;
   loop.score_views = &dataset_.test;
   loop.resumed_seconds = resumed_seconds_;
+  loop.group = options_.group;
   const TrainingLoopResult result = run_training_loop(*trainer_, loop, *this);
   progress_.finish();
   if (result.diverged) {
     // Keep what was good: the last parameters that passed the finiteness check.
-    trainer_->write_last_good_model(model_path());
-    nlohmann::json m = metrics("diverged", result.train_seconds, fs::file_size(model_path()));
-    m["diverged"] = {{"iteration", result.diverged->iteration}, {"group", result.diverged->group}};
-    write_json(options_.out / "metrics.json", m);
+    if (leads()) {
+      trainer_->write_last_good_model(model_path());
+      nlohmann::json m = metrics("diverged", result.train_seconds, fs::file_size(model_path()));
+      m["diverged"] = {{"iteration", result.diverged->iteration}, {"group", result.diverged->group}};
+      write_json(options_.out / "metrics.json", m);
+    }
+    finish_together();
     throw Error(result.diverged->message + "; the last good model is in " + model_path().string());
   }
   const bool interrupted = result.stopped_by == StopReason::kInterrupt;
+  if (!leads()) {
+    finish_together();
+    return interrupted ? 130 : 0;
+  }
   if (interrupted) {
     trainer_->save_checkpoint(options_.out / kCheckpointName);
     if (!options_.quiet)
@@ -200,6 +220,7 @@ int TrainingRun::run() {
                         " (continue with --resume " + options_.out.string() + ")");
   }
   write_outputs(stop_reason_name(result.stopped_by), result.train_seconds);
+  finish_together();
   return interrupted ? 130 : 0;
 }
 
@@ -219,6 +240,7 @@ nlohmann::json TrainingRun::metrics(const std::string& stopped_by, double train_
   m["ms_per_iteration"] = timings_json(whole_run_.timings, whole_run_.count);
   m["peak_memory_bytes"] = peak_memory_bytes();
   m["threads"] = options_.threads > 0 ? options_.threads : tbb::info::default_concurrency();
+  m["ranks"] = options_.group ? options_.group->size() : 1;
   trainer_->add_metrics(m);
   m["data"] = options_.data.string();
   m["train_views"] = dataset_.train.size();
@@ -264,7 +286,7 @@ int run_train_command(const TrainCommandOptions& options) {
   std::error_code ec;
   fs::create_directories(options.out, ec);
   if (!fs::is_directory(options.out)) throw InputError(options.out, "cannot create the output folder");
-  if (!options.quiet)
+  if (!options.quiet && (options.group == nullptr || options.group->rank() == 0))
     std::printf("data: %s (%zu train, %zu test views, %s), scene extent %.3f\n",
                 options.data.string().c_str(), dataset.train.size(), dataset.test.size(),
                 dataset.points ? (std::to_string(dataset.points->size()) + " points").c_str()

@@ -6,6 +6,7 @@
 
 #include "splat/data/dataset.hpp"
 #include "splat/train/nerf_trainer.hpp"
+#include "splat/train/process_group.hpp"
 #include "splat/train/training_config.hpp"
 
 namespace splat::cli {
@@ -19,6 +20,9 @@ struct TrainCommandOptions {
   DatasetOptions dataset;
   int threads = 0;               // 0 = all cores
   bool quiet = false;            // no progress bar / lines
+  // The ranks of a data-parallel run (train/mpi_process_group.hpp), or null alone. Rank 0
+  // reports, scores and writes every output; the others train in step with it, quietly.
+  ProcessGroup* group = nullptr;
 };
 
 // Returns the process exit status: 0 done, 2 error (printed), 130 interrupted (after saving).

@@ -14,6 +14,10 @@ namespace splat::cli {
 
 namespace {
 
+// Views one step trains on: the splats' batch; the NeRF's steps are batches of rays.
+int views_per_step(const SplatTrainingConfig& config) { return config.batch; }
+int views_per_step(const NerfTrainingConfig&) { return 1; }
+
 // What both adapters forward to their trainer unchanged (the trainers share these names).
 template <class Trainer, class Config>
 class DelegatingAdapter : public TrainerAdapter {
@@ -25,7 +29,7 @@ class DelegatingAdapter : public TrainerAdapter {
   }
   RunSchedule schedule() const override {
     const auto& c = trainer_.config();
-    return {c.iterations, c.max_seconds, c.test_interval, c.checkpoint_interval};
+    return {c.iterations, c.max_seconds, c.test_interval, c.checkpoint_interval, views_per_step(c)};
   }
   StepResult step() override {
     const StepResult result = trainer_.step();
@@ -54,6 +58,7 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
  public:
   using DelegatingAdapter::DelegatingAdapter;
   std::string method() const override { return "splat"; }
+  void set_process_group(ProcessGroup* group) override { trainer_.set_process_group(group); }
   std::size_t num_gaussians() const override { return trainer_.model().size(); }
   std::size_t num_params() const override {
     const GaussianModel& m = trainer_.model();

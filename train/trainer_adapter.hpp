@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "splat/data/dataset.hpp"
+#include "splat/core/error.hpp"
+#include "splat/train/process_group.hpp"
 #include "splat/train/splat_trainer.hpp"
 #include "train_command.hpp"
 
@@ -18,6 +20,7 @@ struct RunSchedule {
   int iterations = 0;
   double max_seconds = 0;
   int test_interval = 0, checkpoint_interval = 0;
+  int views_per_step = 1;  // a step advances the iteration count by this (--batch)
 };
 
 class TrainerAdapter {
@@ -33,6 +36,13 @@ class TrainerAdapter {
   // otherwise none.
   virtual std::vector<Camera> refined_training_cameras() const { return {}; }
   virtual int iteration() const = 0;
+  // Shares the steps with the other ranks of a data-parallel run (null: alone). The NeRF
+  // trains in one process: ArgumentError for a group of more than one.
+  virtual void set_process_group(ProcessGroup* group) {
+    if (group && group->size() > 1)
+      throw ArgumentError("the NeRF trains in one process; data-parallel training over " +
+                          std::to_string(group->size()) + " ranks is for the splats (--method splat)");
+  }
   virtual std::size_t num_gaussians() const = 0;  // 0 for the NeRF
   virtual std::size_t num_params() const = 0;
   virtual std::string model_size() const = 0;     // for the progress line

@@ -4,6 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <span>
+
+#include "splat/optim/step_events.hpp"
 
 namespace splat::cli {
 
@@ -54,8 +57,13 @@ class Loop {
     for (;;) {
       const LoopState s = now();
       if (s.iteration >= options_.iterations) return StopReason::kIterations;
-      if (options_.interrupt && options_.interrupt->load()) return StopReason::kInterrupt;
-      const double spent = options_.budget_clock == BudgetClock::kWall ? s.wall_seconds : s.train_seconds;
+      bool interrupted = options_.interrupt && options_.interrupt->load();
+      double spent = options_.budget_clock == BudgetClock::kWall ? s.wall_seconds : s.train_seconds;
+      if (options_.group) {  // every rank takes the same decision: rank 0's time, anyone's interrupt
+        interrupted = options_.group->any(interrupted);
+        options_.group->broadcast(std::span<double>(&spent, 1));
+      }
+      if (interrupted) return StopReason::kInterrupt;
       if (options_.max_seconds > 0 && spent >= options_.max_seconds) return StopReason::kTime;
       if (options_.max_seconds > 0) trainer_.set_time_budget_fraction(spent / options_.max_seconds);
       if (score_due(s)) {
@@ -70,9 +78,10 @@ class Loop {
   }
 
   bool score_due(const LoopState& s) const {
-    const int next = s.iteration + 1;
+    const int views = options_.views_per_step;
+    const int next = s.iteration + views;  // the last iteration of the next step
     const int every = options_.score_every_iterations;
-    if (every > 0 && next % every == 0 && next < options_.iterations) return true;
+    if (step_reaches_multiple(next, views, every) && next < options_.iterations) return true;
     return options_.score_every_seconds > 0 && s.train_seconds >= next_score_at_;
   }
 

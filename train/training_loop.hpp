@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "splat/train/process_group.hpp"
 #include "trainer_adapter.hpp"
 
 namespace splat::cli {
@@ -28,6 +29,9 @@ struct TrainingLoopOptions {
   // every N iterations, before iteration N's step (why before: train_command.cpp), for
   // N < iterations;
   int score_every_iterations = 0;
+  // The iterations one step advances (a batch of views): a point N is due before the step
+  // whose iterations hold it.
+  int views_per_step = 1;
   // every T seconds of training time, checked before each step;
   double score_every_seconds = 0;
   // once more when training stopped by a limit, unless the last score saw the final model.
@@ -43,6 +47,10 @@ struct TrainingLoopOptions {
   const std::vector<DatasetView>* score_views = nullptr;  // what a score evaluates
 
   double resumed_seconds = 0;  // training time before this loop (a resumed run)
+  // The ranks of a data-parallel run (splat/train/process_group.hpp), or null alone. Every
+  // rank then stops at the same step: rank 0's clock decides the time budget and its
+  // fraction, an interrupt on any rank stops all. Only rank 0 should be given scoring points.
+  ProcessGroup* group = nullptr;
   // Seconds on a monotonic clock; the steady clock unless a test drives time itself.
   std::function<double()> clock;
 };

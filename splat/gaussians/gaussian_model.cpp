@@ -126,4 +126,42 @@ void GaussianModel::set_zero() {
   });
 }
 
+void GaussianModel::add(const GaussianModel& other) {
+  require_same_degree(*this, other, "add");
+  if (other.size() != size())
+    throw ArgumentError("GaussianModel::add: " + std::to_string(other.size()) + " rows added to " +
+                        std::to_string(size()));
+  for_each_array_pair(*this, other, [](std::vector<float>& a, const std::vector<float>& b, std::size_t) {
+    for (std::size_t i = 0; i < a.size(); ++i) a[i] += b[i];
+  });
+}
+
+void GaussianModel::write_values(std::span<float> out) const {
+  if (out.size() != value_count())
+    throw ArgumentError("GaussianModel::write_values: " + std::to_string(out.size()) + " slots for " +
+                        std::to_string(value_count()) + " values");
+  std::size_t at = 0;
+  for_each_array(*this, [&](const std::vector<float>& array, std::size_t) {
+    std::copy(array.begin(), array.end(), out.begin() + std::ptrdiff_t(at));
+    at += array.size();
+  });
+}
+
+void GaussianModel::read_values(std::span<const float> in) {
+  if (in.size() != value_count())
+    throw ArgumentError("GaussianModel::read_values: " + std::to_string(in.size()) + " values for " +
+                        std::to_string(value_count()) + " slots");
+  std::size_t at = 0;
+  for_each_array(*this, [&](std::vector<float>& array, std::size_t) {
+    std::copy(in.begin() + std::ptrdiff_t(at), in.begin() + std::ptrdiff_t(at + array.size()), array.begin());
+    at += array.size();
+  });
+}
+
+void GaussianModel::scale(float factor) {
+  for_each_array(*this, [factor](std::vector<float>& array, std::size_t) {
+    for (float& v : array) v *= factor;
+  });
+}
+
 }  // namespace splat

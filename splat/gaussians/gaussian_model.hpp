@@ -5,6 +5,7 @@
 //   colour = SH(dir) + 0.5 clamped at 0.
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace splat {
@@ -50,6 +51,16 @@ struct GaussianModel {
   void zero_row(std::size_t row);
   // Every value zero, size and degree kept.
   void set_zero();
+  // Element-wise this += other, for gradients (same degree and size; ArgumentError otherwise).
+  void add(const GaussianModel& other);
+  // Every value times `factor`.
+  void scale(float factor);
+  // All values as one flat array (means, log-scales, quaternions, opacities, SH), to send a
+  // gradient between processes: value_count() floats into `out`; read_values takes them back
+  // into a model already sized alike. ArgumentError on a size mismatch.
+  std::size_t value_count() const { return size() * floats_per_row(); }
+  void write_values(std::span<float> out) const;
+  void read_values(std::span<const float> in);
   // Floats per row across all arrays: 3 + 3 + 4 + 1 + 3·K (59 at degree 3).
   std::size_t floats_per_row() const { return 11 + std::size_t(sh_coefficients()) * 3; }
 };

@@ -6,6 +6,7 @@
 
 #include "splat/core/error.hpp"
 #include "splat/core/random.hpp"
+#include "splat/optim/step_events.hpp"
 #include "splat/raster/projection_math.hpp"
 
 namespace splat {
@@ -226,23 +227,24 @@ DensityControlReport DensityControl::densify_and_prune(GaussianModel& model, Ada
 DensityControlReport DensityControl::step(int iteration, GaussianModel& model, AdamState& adam,
                                           std::span<const float> view_grad_norms,
                                           std::span<const std::int32_t> radii,
-                                          float scene_extent, std::mt19937& rng, bool stats_only) {
+                                          float scene_extent, std::mt19937& rng, bool stats_only,
+                                          int views) {
   DensityControlReport report;
   const DensityControlSettings& s = settings_;
-  if (iteration < s.densify_until_iter) {
+  if (gathers_stats_at(iteration)) {
     add_stats(view_grad_norms, radii);
     if (stats_only) {
       report.count_after = model.size();
       return report;
     }
-    if (iteration > s.densify_from_iter && iteration % s.densification_interval == 0) {
+    if (iteration > s.densify_from_iter && step_reaches_multiple(iteration, views, s.densification_interval)) {
       // Screen and world size limits start after the first opacity reset.
       const std::optional<float> size_threshold =
           iteration > s.opacity_reset_interval ? std::optional<float>(s.max_screen_size)
                                                : std::nullopt;
       report = densify_and_prune(model, adam, scene_extent, size_threshold, rng);
     }
-    if (resets_opacity_at(iteration)) {
+    if (resets_opacity_at(iteration, views)) {
       reset_opacity(model, adam, s.opacity_reset_value);
       report.opacity_reset = true;
     }
@@ -251,11 +253,11 @@ DensityControlReport DensityControl::step(int iteration, GaussianModel& model, A
   return report;
 }
 
-bool DensityControl::resets_opacity_at(int iteration) const {
+bool DensityControl::resets_opacity_at(int iteration, int views) const {
   const DensityControlSettings& s = settings_;
   return iteration < s.densify_until_iter &&
-         (iteration % s.opacity_reset_interval == 0 ||
-          (s.white_background && iteration == s.densify_from_iter));
+         (step_reaches_multiple(iteration, views, s.opacity_reset_interval) ||
+          (s.white_background && step_reaches(iteration, views, s.densify_from_iter)));
 }
 
 void reset_opacity(GaussianModel& model, AdamState& adam, float cap) {

@@ -100,15 +100,18 @@ class DensityControl {
   // official rasterizer reports it; radii[i] the screen radius (0 when not visible).
   // `rng` drives the split samples and is used only when something splits. With
   // `stats_only` (the run's last iteration) the statistics are gathered but nothing is
-  // densified, pruned or reset.
+  // densified, pruned or reset. A step over a batch of `views` views (step_events.hpp) adds
+  // the other views' statistics first (add_stats) and passes its last view's here as
+  // `iteration`: the events due at any of its views happen once, after all of them.
   DensityControlReport step(int iteration, GaussianModel& model, AdamState& adam,
                             std::span<const float> view_grad_norms,
                             std::span<const std::int32_t> radii, float scene_extent,
-                            std::mt19937& rng, bool stats_only = false);
+                            std::mt19937& rng, bool stats_only = false, int views = 1);
 
-  // True when step(iteration, ...) will reset the opacities (callers that evaluate the model
-  // avoid scoring it right after a reset, when everything is nearly transparent).
-  bool resets_opacity_at(int iteration) const;
+  // True when a step over the `views` views up to `iteration` resets the opacities.
+  bool resets_opacity_at(int iteration, int views = 1) const;
+  // Whether view `iteration` still gathers statistics.
+  bool gathers_stats_at(int iteration) const { return iteration < settings_.densify_until_iter; }
 
   // add_densification_stats: for every Gaussian with radius > 0, accumulate the gradient
   // norm, count the view and track the largest radius.

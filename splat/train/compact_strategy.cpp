@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include "splat/core/error.hpp"
+#include "splat/optim/step_events.hpp"
 #include "splat/optim/relocation.hpp"
 #include "splat/raster/projection_math.hpp"
 
@@ -89,43 +90,47 @@ void CompactStrategy::add_regularization(const GaussianModel& model, GaussianMod
 
 DensityStepReport CompactStrategy::step_post_backward(int iteration, bool last_iteration,
                                                       TrainingState& state, GaussianModel& grads,
-                                                      const BackwardStats& stats) {
+                                                      std::span<const BackwardStats> views) {
   const std::size_t n = state.model.size();
-  if (grad_accum_.size() != n || stats.viewspace_grad_norm.size() != n || stats.radii.size() != n ||
-      stats.blend_weight.size() != n)
-    throw ArgumentError("compact strategy: statistics for " + std::to_string(grad_accum_.size()) +
-                        " Gaussians, the model has " + std::to_string(n));
+  if (views.empty()) throw ArgumentError("compact strategy: a step without views");
+  for (const BackwardStats& stats : views)
+    if (grad_accum_.size() != n || stats.viewspace_grad_norm.size() != n || stats.radii.size() != n ||
+        stats.blend_weight.size() != n)
+      throw ArgumentError("compact strategy: statistics for " + std::to_string(grad_accum_.size()) +
+                          " Gaussians, the model has " + std::to_string(n));
   if (settings_.opacity_regularization > 0 || settings_.scale_regularization > 0)
     add_regularization(state.model, grads);
 
   // Blending weights at a reduced size count reduced pixels: scale them to full-size ones.
   const int divisor = resolution_divisor(iteration);
   const float pixel_scale = float(divisor * divisor);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (stats.radii[i] <= 0) continue;
-    grad_accum_[i] += stats.viewspace_grad_norm[i];
-    visible_views_[i] += 1.0f;
-    const float weight = stats.blend_weight[i] * pixel_scale;
-    window_weight_[i] = settings_.prune_by_peak_weight ? std::max(window_weight_[i], weight)
-                                                       : window_weight_[i] + weight;
-  }
+  for (const BackwardStats& stats : views)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (stats.radii[i] <= 0) continue;
+      grad_accum_[i] += stats.viewspace_grad_norm[i];
+      visible_views_[i] += 1.0f;
+      const float weight = stats.blend_weight[i] * pixel_scale;
+      window_weight_[i] = settings_.prune_by_peak_weight ? std::max(window_weight_[i], weight)
+                                                         : window_weight_[i] + weight;
+    }
 
   DensityStepReport report;
   report.count_after = n;
   if (last_iteration) return report;
   const CompactSettings& s = settings_;
+  const int count = int(views.size());
   const int phase = state.schedule_iteration > 0 ? state.schedule_iteration : iteration;
-  if (iteration > s.grow_from && phase <= s.grow_until && iteration % s.grow_interval == 0)
+  if (iteration > s.grow_from && phase <= s.grow_until && step_reaches_multiple(iteration, count, s.grow_interval))
     grow(iteration, state, report);
   const float prune_threshold = phase > s.grow_until && s.prune_weight_after_growth > 0
                                     ? s.prune_weight_after_growth
                                     : s.prune_weight;
-  if (prune_threshold > 0 && iteration >= s.grow_from && phase <= s.prune_until &&
-      iteration % window_ == 0)
+  const bool window_ends = step_reaches_multiple(iteration, count, window_);
+  if (prune_threshold > 0 && iteration >= s.grow_from && phase <= s.prune_until && window_ends)
     prune_by_weight(prune_threshold, state, report);
-  if (iteration % window_ == 0) std::fill(window_weight_.begin(), window_weight_.end(), 0.0f);
+  if (window_ends) std::fill(window_weight_.begin(), window_weight_.end(), 0.0f);
   if (s.opacity_reset_interval > 0 && phase <= s.grow_until &&
-      iteration % s.opacity_reset_interval == 0) {
+      step_reaches_multiple(iteration, count, s.opacity_reset_interval)) {
     reset_opacity(state.model, state.adam, s.opacity_reset_value);
     report.opacity_reset = true;
   }

@@ -32,7 +32,7 @@ class CompactStrategy final : public DensityStrategy {
   std::string name() const override { return "compact"; }
   int resolution_divisor(int iteration) const override;
   DensityStepReport step_post_backward(int iteration, bool last_iteration, TrainingState& state,
-                                       GaussianModel& grads, const BackwardStats& stats) override;
+                                       GaussianModel& grads, std::span<const BackwardStats> views) override;
   void step_post_optimizer(int iteration, TrainingState& state, float means_lr) override;
   std::vector<std::vector<float>*> checkpoint_arrays() override;
   nlohmann::json checkpoint_state() const override;

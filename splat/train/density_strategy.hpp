@@ -68,13 +68,15 @@ class DensityStrategy {
   // 1 = full size, 2 = half width and height, ...
   virtual int resolution_divisor(int /*iteration*/) const { return 1; }
 
-  // Between the backward pass and the optimiser step. `grads` holds the iteration's
-  // gradients (a strategy may add its regularisers' gradients to it; it is not valid for
-  // the optimiser once the report says `densified`). `last_iteration` is the run's final
-  // iteration: statistics only, the model is not changed then.
+  // Between the backward pass and the optimiser step. `grads` holds the step's gradients (a
+  // strategy may add its regularisers' gradients to it; it is not valid for the optimiser
+  // once the report says `densified`). `views` holds the statistics of each view the step
+  // trained on, in batch order (one unless --batch), and `iteration` counts views: it is
+  // the last one's (optim/step_events.hpp says which events fall in the step).
+  // `last_iteration` is the run's final step: statistics only, the model is not changed then.
   virtual DensityStepReport step_post_backward(int iteration, bool last_iteration,
                                                TrainingState& state, GaussianModel& grads,
-                                               const BackwardStats& stats) = 0;
+                                               std::span<const BackwardStats> views) = 0;
 
   // After the optimiser step (also when the report skipped it), with the learning rate of
   // the means that step used.

@@ -8,14 +8,20 @@ namespace splat {
 
 DensityStepReport OfficialStrategy::step_post_backward(int iteration, bool last_iteration,
                                                        TrainingState& state, GaussianModel&,
-                                                       const BackwardStats& stats) {
+                                                       std::span<const BackwardStats> views) {
+  if (views.empty()) throw ArgumentError("official strategy: a step without views");
+  const int count = int(views.size());
+  for (int v = 0; v + 1 < count; ++v)  // each earlier view of a batch, at its own view number
+    if (control_.gathers_stats_at(iteration - count + 1 + v))
+      control_.add_stats(views[std::size_t(v)].viewspace_grad_norm, views[std::size_t(v)].radii);
   // The run's last iteration gathers statistics but neither densifies nor resets: the
   // official trainer saves and scores its model at iteration N before that iteration's
   // density control, and fresh clones and splits that never get a step only depress the
   // result.
+  const BackwardStats& last = views.back();
   const DensityControlReport r =
-      control_.step(iteration, state.model, state.adam, stats.viewspace_grad_norm, stats.radii,
-                    state.scene_extent, state.rng, /*stats_only=*/last_iteration);
+      control_.step(iteration, state.model, state.adam, last.viewspace_grad_norm, last.radii,
+                    state.scene_extent, state.rng, /*stats_only=*/last_iteration, count);
   DensityStepReport report;
   report.densified = r.densified;
   report.opacity_reset = r.opacity_reset;

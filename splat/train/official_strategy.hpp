@@ -14,7 +14,7 @@ class OfficialStrategy final : public DensityStrategy {
 
   std::string name() const override { return "official"; }
   DensityStepReport step_post_backward(int iteration, bool last_iteration, TrainingState& state,
-                                       GaussianModel& grads, const BackwardStats& stats) override;
+                                       GaussianModel& grads, std::span<const BackwardStats> views) override;
   std::vector<std::vector<float>*> checkpoint_arrays() override;
   void checkpoint_loaded(const nlohmann::json& state, std::size_t gaussian_count) override;
 

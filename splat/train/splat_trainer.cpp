@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
 #include "splat/core/frame_change.hpp"
 #include "splat/data/resample.hpp"
 #include "splat/optim/lr_schedule.hpp"
+#include "splat/optim/step_events.hpp"
 #include "splat/train/training_support.hpp"
 
 namespace splat {
@@ -59,6 +61,14 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
     far_steps_ = {initialisation_.centre, initialisation_.distance, initialisation_.far,
                   config_.far_position_step_exponent};
   if (dataset.train.empty()) throw ArgumentError("training needs at least one training view");
+  if (config_.batch < 1 || config_.batch > kMaxBatchViews)
+    throw ArgumentError("batch " + std::to_string(config_.batch) + " is outside [1, " +
+                        std::to_string(kMaxBatchViews) + "]");
+  if (config_.iterations % config_.batch != 0)
+    throw ArgumentError("iterations (" + std::to_string(config_.iterations) + ") must be a multiple of the batch (" +
+                        std::to_string(config_.batch) + "): iterations count views");
+  if (config_.batch > 1 && (config_.refine_poses || config_.exposure_compensation))
+    throw ArgumentError("pose refinement and exposure compensation train one view at a time: use batch 1");
   if (config_.schedule_iterations < 0) throw ArgumentError("schedule_iterations must be >= 0");
   if (config_.schedule_iterations == 0) config_.schedule_iterations = config_.iterations;
   config_.density.white_background =
@@ -130,7 +140,23 @@ GroupLearningRates SplatTrainer::learning_rates() const {
   lr.opacity = config_.opacity_lr * appearance;
   lr.scales = config_.scale_lr * appearance;
   lr.rotations = config_.rotation_lr * appearance;
+  if (config_.batch > 1) {
+    // A batch of B views averages B gradients, so its steps can be longer: Grendel-GS's
+    // rule for Adam (Zhao et al. 2024, "On Scaling Up 3D Gaussian Splatting Training")
+    // multiplies the rates by √B (and raises the moments' decays to the B-th power,
+    // adam_settings), keeping the update per view seen about what it was with one view.
+    const float scale = float(std::sqrt(double(config_.batch)));
+    for (float* rate : {&lr.means, &lr.sh_dc, &lr.sh_rest, &lr.opacity, &lr.scales, &lr.rotations}) *rate *= scale;
+  }
   return lr;
+}
+
+AdamSettings SplatTrainer::adam_settings() const {
+  AdamSettings settings;
+  // One step of a batch of B stands for B steps of one view: the moments forget as much.
+  settings.beta1 = std::pow(settings.beta1, double(config_.batch));
+  settings.beta2 = std::pow(settings.beta2, double(config_.batch));
+  return settings;
 }
 
 PoseLearningRates SplatTrainer::pose_learning_rates() const {
@@ -152,55 +178,96 @@ RenderSettings SplatTrainer::render_settings() const {
 }
 
 StepResult SplatTrainer::step() {
-  const int iteration = iteration_ + 1;  // 1-based, as train.py counts
+  const int views = config_.batch;
+  const int iteration = iteration_ + views;  // the step's last view, 1-based as train.py counts
   StepResult result;
-  if (config_.sh_increase_interval > 0 && iteration % config_.sh_increase_interval == 0)
+  if (step_reaches_multiple(iteration, views, config_.sh_increase_interval))
     active_sh_degree_ = std::min(active_sh_degree_ + 1, model_.sh_degree);
-  const std::size_t view = next_view();
+  batch_views_.clear();
+  for (int v = 0; v < views; ++v) batch_views_.push_back(next_view());
   result.resolution_divisor = strategy_->resolution_divisor(iteration);
-  const Image& target = training_image(view, result.resolution_divisor);
-  const Camera recorded = result.resolution_divisor == 1
-                              ? dataset_.train[view].camera
-                              : dataset_.train[view].camera.resized(target.width, target.height);
-  const Camera camera = config_.refine_poses ? pose_refiner_.camera(view, recorded) : recorded;
   const RenderSettings settings = render_settings();
   grads_.with_camera_pose = config_.refine_poses && iteration >= config_.pose_refine_from;
 
+  // Each of this process's views (all of them, or its rank's block): render, loss, backward;
+  // its gradient joins the pairwise sum and its statistics are kept for the density strategy.
+  const int ranks = group_ ? group_->size() : 1;
+  const int per_rank = views / ranks;
+  const int first = group_ ? group_->rank() * per_rank : 0;
+  batch_gradient_.clear();
+  view_stats_.resize(std::size_t(views));
+  Camera recorded, camera;  // the (last) view's, for pose refinement (batch 1 only)
+  for (int v = first; v < first + per_rank; ++v) {
+    const std::size_t view = batch_views_[std::size_t(v)];
+    const Image& target = training_image(view, result.resolution_divisor);
+    recorded = result.resolution_divisor == 1 ? dataset_.train[view].camera
+                                              : dataset_.train[view].camera.resized(target.width, target.height);
+    camera = config_.refine_poses ? pose_refiner_.camera(view, recorded) : recorded;
+
+    auto start = Clock::now();
+    rasterizer_.render(model_, camera, settings, render_);
+    result.timings.forward += ms_since(start);
+    result.timings.project += rasterizer_.last_timings().project_ms;
+    result.timings.bin_sort += rasterizer_.last_timings().bin_sort_ms;
+    result.timings.blend += rasterizer_.last_timings().blend_ms;
+
+    start = Clock::now();
+    const bool compensate = config_.exposure_compensation && iteration >= config_.exposure_from;
+    if (compensate) exposure_.apply(view, render_.color, compensated_);
+    const LossValue loss = photometric_loss(compensate ? compensated_ : render_.color, target, config_.ssim_weight,
+                                            &v_image_, ssim_scratch_);
+    if (compensate)
+      exposure_.backward_and_step(view, render_.color, v_image_,
+                                  config_.exposure_lr * appearance_lr_factor(config_, schedule_iteration(iteration)));
+    result.timings.loss += ms_since(start);
+    ViewStatistics& stats = view_stats_[std::size_t(v)];
+    stats.loss = loss;
+    if (ranks == 1 && !std::isfinite(loss.loss)) throw TrainingDiverged(iteration, "loss");
+
+    start = Clock::now();
+    rasterizer_.backward(model_, camera, settings, render_, v_image_, grads_);
+    if (views > 1) {  // kept until the batch ends; a single view's are read where they are
+      batch_gradient_.take(grads_.params);
+      stats.viewspace_grad_norm = grads_.viewspace_grad_norm;
+      stats.radii = render_.frame.projected.radius;
+      stats.blend_weight = grads_.blend_weight;
+      stats.width = camera.width;
+      stats.height = camera.height;
+    }
+    result.timings.backward += ms_since(start);
+    result.timings.blend_backward += rasterizer_.last_timings().blend_backward_ms;
+    result.timings.project_backward += rasterizer_.last_timings().project_backward_ms;
+  }
+
   auto start = Clock::now();
-  rasterizer_.render(model_, camera, settings, render_);
-  result.timings.forward = ms_since(start);
-  result.timings.project = rasterizer_.last_timings().project_ms;
-  result.timings.bin_sort = rasterizer_.last_timings().bin_sort_ms;
-  result.timings.blend = rasterizer_.last_timings().blend_ms;
-
-  start = Clock::now();
-  const bool compensate = config_.exposure_compensation && iteration >= config_.exposure_from;
-  if (compensate) exposure_.apply(view, render_.color, compensated_);
-  const LossValue loss = photometric_loss(compensate ? compensated_ : render_.color, target, config_.ssim_weight,
-                                          &v_image_, ssim_scratch_);
-  if (compensate)
-    exposure_.backward_and_step(view, render_.color, v_image_,
-                                config_.exposure_lr * appearance_lr_factor(config_, schedule_iteration(iteration)));
-  result.timings.loss = ms_since(start);
-  result.loss = loss.loss;
-  result.l1 = loss.l1;
-  result.ssim = loss.ssim;
-  if (!std::isfinite(loss.loss)) throw TrainingDiverged(iteration, "loss");
-
-  start = Clock::now();
-  rasterizer_.backward(model_, camera, settings, render_, v_image_, grads_);
-  result.timings.backward = ms_since(start);
-  result.timings.blend_backward = rasterizer_.last_timings().blend_backward_ms;
-  result.timings.project_backward = rasterizer_.last_timings().project_backward_ms;
+  // The mean loss's gradient: the views' sum over the batch (a single view's as it is).
+  GaussianModel* grads = &grads_.params;
+  if (views > 1) {
+    grads = ranks > 1 ? &exchange_batch() : &batch_gradient_.total();
+    grads->scale(1.0f / float(views));
+  }
+  last_step_gradient_ = grads;
+  for (const ViewStatistics& stats : view_stats_) {
+    result.loss += stats.loss.loss / views;
+    result.l1 += stats.loss.l1 / views;
+    result.ssim += stats.loss.ssim / views;
+  }
+  if (!std::isfinite(result.loss)) throw TrainingDiverged(iteration, "loss");
+  if (ranks > 1) result.timings.exchange = ms_since(start);
 
   start = Clock::now();
   // The run's last iteration only gathers statistics (see DensityStrategy). Extending a
   // finished run with --resume and more iterations therefore misses that one decision.
   TrainingState state{model_, adam_, rng_, scene_extent_, int(schedule_iteration(iteration))};
-  const BackwardStats stats{grads_.viewspace_grad_norm, render_.frame.projected.radius,
-                            grads_.blend_weight, camera.width, camera.height};
-  result.density = strategy_->step_post_backward(iteration, iteration == config_.iterations,
-                                                 state, grads_.params, stats);
+  backward_stats_.clear();
+  if (views == 1)
+    backward_stats_.push_back({grads_.viewspace_grad_norm, render_.frame.projected.radius, grads_.blend_weight,
+                               camera.width, camera.height});
+  else
+    for (const ViewStatistics& v : view_stats_)
+      backward_stats_.push_back({v.viewspace_grad_norm, v.radii, v.blend_weight, v.width, v.height});
+  result.density = strategy_->step_post_backward(iteration, iteration == config_.iterations, state, *grads,
+                                                 backward_stats_);
   result.timings.densify = ms_since(start);
 
   start = Clock::now();
@@ -213,11 +280,11 @@ StepResult SplatTrainer::step() {
     AdamGroupMask active;
     active.opacity = !result.density.opacity_reset;
     if (far_steps_.active()) means_before_step_ = model_.means;
-    adam_step(model_, grads_.params, adam_, lr, {}, active);
+    adam_step(model_, *grads, adam_, lr, adam_settings(), active);
     if (far_steps_.active()) scale_far_steps(model_.means, means_before_step_, far_steps_);
   }
   if (grads_.with_camera_pose) {
-    pose_refiner_.step(view, recorded, grads_.camera_pose, pose_learning_rates());
+    pose_refiner_.step(batch_views_.back(), recorded, grads_.camera_pose, pose_learning_rates());
     if (config_.pose_hold_frame) pose_refiner_.hold_frame(recorded_training_cameras_);
   }
   strategy_->step_post_optimizer(iteration, state, lr.means);
@@ -228,13 +295,92 @@ StepResult SplatTrainer::step() {
       {"opacity_logits", &model_.opacity_logits}};
   for (const auto& [name, values] : groups)
     if (!all_finite(*values)) throw TrainingDiverged(iteration, name);
-  if (iteration % kLastGoodInterval == 0) {
+  if (step_reaches_multiple(iteration, views, kLastGoodInterval)) {
     if (!all_finite(model_.sh)) throw TrainingDiverged(iteration, "sh_coefficients");
     last_good_model_ = model_;
   }
   result.timings.optimizer = ms_since(start);
   iteration_ = iteration;
   return result;
+}
+
+void SplatTrainer::set_process_group(ProcessGroup* group) {
+  if (group && group->size() > 1) {
+    const int ranks = group->size(), views = config_.batch;
+    if (views % ranks != 0 || ((views / ranks) & (views / ranks - 1)) != 0)
+      throw ArgumentError("--batch " + std::to_string(views) + " over " + std::to_string(ranks) +
+                          " ranks: each rank takes batch / ranks views, which must be a whole power of two "
+                          "(1, 2, 4, ...) so that the model does not depend on the number of ranks");
+  }
+  group_ = group && group->size() > 1 ? group : nullptr;
+}
+
+namespace {
+
+// A view's statistics travel as floats: its three loss figures (each double as two floats'
+// bits, so they arrive exact), its image size, then [N] gradient norms, blending weights
+// and radii (integers below 2²⁴, exact as floats).
+constexpr std::size_t kViewHeaderFloats = 8;
+
+void pack_double(double value, float* out) { std::memcpy(out, &value, sizeof(double)); }
+double unpack_double(const float* in) {
+  double value;
+  std::memcpy(&value, in, sizeof(double));
+  return value;
+}
+
+}  // namespace
+
+GaussianModel& SplatTrainer::exchange_batch() {
+  const int ranks = group_->size(), views = config_.batch, per_rank = views / ranks;
+  const int first = group_->rank() * per_rank;
+  const std::size_t n = model_.size();
+  // This rank's block: the pairwise sum of its views' gradients, then each view's
+  // statistics; every rank sends as many floats.
+  const GaussianModel& block = batch_gradient_.total();
+  const std::size_t gradient_floats = block.value_count(), view_floats = kViewHeaderFloats + 3 * n;
+  const std::size_t message = gradient_floats + view_floats * std::size_t(per_rank);
+  exchange_send_.resize(message);
+  exchange_receive_.resize(message * std::size_t(ranks));
+  block.write_values({exchange_send_.data(), gradient_floats});
+  for (int v = 0; v < per_rank; ++v) {
+    const ViewStatistics& stats = view_stats_[std::size_t(first + v)];
+    float* out = exchange_send_.data() + gradient_floats + view_floats * std::size_t(v);
+    pack_double(stats.loss.loss, out);
+    pack_double(stats.loss.l1, out + 2);
+    pack_double(stats.loss.ssim, out + 4);
+    out[6] = float(stats.width);
+    out[7] = float(stats.height);
+    out += kViewHeaderFloats;
+    std::copy(stats.viewspace_grad_norm.begin(), stats.viewspace_grad_norm.end(), out);
+    std::copy(stats.blend_weight.begin(), stats.blend_weight.end(), out + n);
+    for (std::size_t i = 0; i < n; ++i) out[2 * n + i] = float(stats.radii[i]);
+  }
+  group_->all_gather(exchange_send_, exchange_receive_);
+
+  // The blocks' sums in rank order through the same pairwise sum (view_batch.hpp: the whole
+  // batch's, bit for bit), and every view's statistics in batch order.
+  batch_gradient_.clear();
+  for (int r = 0; r < ranks; ++r) {
+    const float* in = exchange_receive_.data() + message * std::size_t(r);
+    exchange_block_.sh_degree = model_.sh_degree;
+    exchange_block_.resize(n);
+    exchange_block_.read_values({in, gradient_floats});
+    batch_gradient_.take(exchange_block_);
+    for (int v = 0; v < per_rank; ++v) {
+      ViewStatistics& stats = view_stats_[std::size_t(r * per_rank + v)];
+      const float* view = in + gradient_floats + view_floats * std::size_t(v);
+      stats.loss = {unpack_double(view), unpack_double(view + 2), unpack_double(view + 4)};
+      stats.width = int(view[6]);
+      stats.height = int(view[7]);
+      view += kViewHeaderFloats;
+      stats.viewspace_grad_norm.assign(view, view + n);
+      stats.blend_weight.assign(view + n, view + 2 * n);
+      stats.radii.resize(n);
+      for (std::size_t i = 0; i < n; ++i) stats.radii[i] = std::int32_t(view[2 * n + i]);
+    }
+  }
+  return batch_gradient_.total();
 }
 
 void SplatTrainer::check_parameters_finite() const {

@@ -22,7 +22,9 @@
 #include "splat/train/exposure_compensation.hpp"
 #include "splat/train/initial_model.hpp"
 #include "splat/train/pose_alignment.hpp"
+#include "splat/train/process_group.hpp"
 #include "splat/train/training_config.hpp"
+#include "splat/train/view_batch.hpp"
 
 namespace splat {
 
@@ -45,6 +47,8 @@ struct IterationTimings {  // milliseconds
   double forward = 0, loss = 0, backward = 0, optimizer = 0, densify = 0;
   // The rasterizer's stages inside forward and backward (splats only; 0 for the NeRF).
   double project = 0, bin_sort = 0, blend = 0, blend_backward = 0, project_backward = 0;
+  // Over several ranks: exchanging and summing the batch's gradients and statistics (0 alone).
+  double exchange = 0;
 
   // Every figure by name: the five stages, then the rasterizer's parts.
   static constexpr std::pair<const char*, double IterationTimings::*> kFields[] = {
@@ -53,9 +57,9 @@ struct IterationTimings {  // milliseconds
       {"densify", &IterationTimings::densify},         {"project", &IterationTimings::project},
       {"bin_sort", &IterationTimings::bin_sort},       {"blend", &IterationTimings::blend},
       {"blend_backward", &IterationTimings::blend_backward},
-      {"project_backward", &IterationTimings::project_backward}};
+      {"project_backward", &IterationTimings::project_backward}, {"exchange", &IterationTimings::exchange}};
 
-  double total() const { return forward + loss + backward + optimizer + densify; }
+  double total() const { return forward + loss + backward + exchange + optimizer + densify; }
   IterationTimings& operator+=(const IterationTimings& o) {
     for (const auto& [name, field] : kFields) this->*field += o.*field;
     return *this;
@@ -75,7 +79,8 @@ class SplatTrainer {
   // cameras say (initial_model.hpp).
   SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& config);
 
-  // One iteration. Throws TrainingDiverged on a non-finite loss or parameter.
+  // One step: config().batch views (one iteration each: iteration() advances by the batch).
+  // Throws TrainingDiverged on a non-finite loss or parameter.
   StepResult step();
 
   // Renders `views` with the current model (active SH bands) and scores them. If `renders`
@@ -91,6 +96,9 @@ class SplatTrainer {
   int iteration() const { return iteration_; }  // iterations completed
   int active_sh_degree() const { return active_sh_degree_; }
   const GaussianModel& model() const { return model_; }
+  // The gradient the last step gave Adam: its view's, or the mean of its batch's (with any
+  // regulariser the strategy added).
+  const GaussianModel& last_step_gradient() const { return *last_step_gradient_; }
   // The parameters as of the last check that found every group finite.
   const GaussianModel& last_good_model() const { return last_good_model_; }
   const SplatTrainingConfig& config() const { return config_; }
@@ -106,6 +114,13 @@ class SplatTrainer {
   // The fraction of the run's time budget spent so far (the training loop sets it before
   // each step when there is a budget); schedules that follow the budget read it.
   void set_time_budget_fraction(double fraction) { time_budget_fraction_ = fraction; }
+
+  // Shares each step's views with the other ranks of `group` (data-parallel training; null
+  // or a group of one: this process takes them all). Every rank must hold the same trainer
+  // state; each then renders its block of batch / ranks views and all take the same step.
+  // ArgumentError unless batch / ranks is a whole power of two (view_batch.hpp: what makes
+  // the model independent of the number of ranks).
+  void set_process_group(ProcessGroup* group);
 
   // Throws TrainingDiverged naming the first parameter group with a non-finite value.
   void check_parameters_finite() const;
@@ -125,6 +140,8 @@ class SplatTrainer {
   // The training image of view `view` at 1/divisor of its size (built once, then kept).
   const Image& training_image(std::size_t view, int divisor);
   GroupLearningRates learning_rates() const;
+  // Adam's decays: the official 0.9 / 0.999, raised to the batch's size.
+  AdamSettings adam_settings() const;
   PoseLearningRates pose_learning_rates() const;
   // The pivot of `camera`'s pose correction: the depth of the scene's centre in front of it
   // under pose_pivot_at_scene (0 if behind it), else 0 (the camera centre).
@@ -156,6 +173,25 @@ class SplatTrainer {
   Rasterizer rasterizer_;
   RenderResult render_;
   RasterGradients grads_;
+  // One step's batch (config_.batch views): which views, each one's statistics for the
+  // density strategy, and the pairwise sum of their gradients (view_batch.hpp).
+  struct ViewStatistics {
+    LossValue loss;
+    std::vector<float> viewspace_grad_norm, blend_weight;
+    std::vector<std::int32_t> radii;
+    int width = 0, height = 0;
+  };
+  // Over several ranks: sends this rank's block sum and view statistics, receives every
+  // rank's, and returns the batch's gradient sum (view_stats_ then holds every view's).
+  GaussianModel& exchange_batch();
+  ProcessGroup* group_ = nullptr;  // null: this process takes every view
+  std::vector<float> exchange_send_, exchange_receive_;
+  GaussianModel exchange_block_;
+  std::vector<std::size_t> batch_views_;
+  std::vector<ViewStatistics> view_stats_;
+  std::vector<BackwardStats> backward_stats_;  // views of view_stats_
+  PairwiseGradientSum batch_gradient_;
+  const GaussianModel* last_step_gradient_ = &grads_.params;
   Image v_image_;
   SsimScratch ssim_scratch_;
   std::vector<std::vector<Image>> reduced_images_;  // [divisor][view], empty until needed

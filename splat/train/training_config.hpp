@@ -21,6 +21,8 @@ constexpr double kMaxLearningRate = 1.0;
 // about 1 KB, so this keeps the start under 1 GB.
 constexpr double kMaxRandomInitPoints = 1'000'000;
 constexpr double kMaxGaussiansSetting = 100'000'000;
+// The most views one step may take (--batch): each keeps its statistics until the step ends.
+constexpr int kMaxBatchViews = 256;
 
 // The member defaults are the official recipe (strategy "official"); splat_training_preset
 // gives each strategy's own defaults, which is what the command lines start from.
@@ -32,6 +34,10 @@ struct SplatTrainingConfig {
   double max_seconds = 0;            // wall-clock limit, 0 = none; whichever ends first
   float background[3] = {1, 1, 1};
   unsigned seed = 0;                 // view order, initialisation, split samples
+  // Views per optimiser step (--batch; splat/train/view_batch.hpp): the loss is their mean.
+  // Iterations count views, so `iterations` must be a multiple of it and every schedule keeps
+  // its meaning. 1 = the official one view per step.
+  int batch = 1;
 
   float ssim_weight = 0.2f;          // λ in (1 − λ)·L1 + λ·(1 − SSIM)
   // Learning rates (the position one is scaled by the scene extent and decays exponentially).

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -127,6 +128,115 @@ TEST(TrainCli, ResumeContinuesExactly) {
         << strategy << ": the resumed run's model differs from the uninterrupted run's";
     EXPECT_FALSE(fs::exists(dir / "straight" / "training_cameras.json")) << "no poses were refined";
   }
+}
+
+// --batch B: a step trains on B views and the iterations still count views; a run split by a
+// checkpoint is the same run.
+TEST(TrainCli, BatchesOfViewsCountIterationsInViewsAndResumeExactly) {
+  const fs::path dir = test::scratch_dir("train_cli_batch");
+  auto r = test::run_command(train_command(dir / "straight", "--batch 4 --iters 240 --test-every 0 --quiet"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json m = read_json(dir / "straight" / "metrics.json");
+  EXPECT_EQ(m.at("iterations").get<int>(), 240);
+  std::vector<int> history;
+  for (const auto& h : m.at("history")) history.push_back(h.at("iteration").get<int>());
+  EXPECT_EQ(history, (std::vector<int>{100, 200, 240}));  // the steps ending at 100, 200, the end
+  EXPECT_EQ(read_json(dir / "straight" / "config.json").at("batch"), 4);
+  r = test::run_command(train_command(dir / "split", "--batch 4 --iters 120 --checkpoint-every 120 --test-every 0 --quiet"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_command(
+      train_command(dir / "split", "--batch 4 --iters 240 --test-every 0 --quiet --resume " + (dir / "split").string()), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(test::read_file(dir / "straight" / "model.ply") == test::read_file(dir / "split" / "model.ply"))
+      << "the resumed batch run's model differs from the uninterrupted one's";
+  // A batch of 1 is one view per step: a different run from batches of 4.
+  r = test::run_command(train_command(dir / "one", "--iters 240 --test-every 0 --quiet"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(test::read_file(dir / "straight" / "model.ply") == test::read_file(dir / "one" / "model.ply"));
+
+  r = test::run_command(train_command(dir / "bad", "--batch 3 --iters 100 --quiet"), dir);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("multiple of the batch"), std::string::npos) << r.err;
+  r = test::run_command(nerf_command(dir / "nerf", "--batch 2 --iters 10 --quiet"), dir);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--batch is a splat setting"), std::string::npos) << r.err;
+}
+
+#ifdef SPLAT_MPIEXEC
+// mpirun with K ranks on this machine: as root too (CI), more ranks than cores allowed, and
+// no binding (each rank sets its own thread count).
+std::string mpirun(int ranks) {
+  return "env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + std::string(SPLAT_MPIEXEC) +
+         " -np " + std::to_string(ranks) + " --oversubscribe --bind-to none ";
+}
+#endif
+
+// Data-parallel training: two ranks of one thread each train, at the same --batch, the model
+// one process of two threads trains, byte for byte; rank 0 alone writes and reports.
+TEST(TrainCli, TwoMpiRanksTrainTheModelOneProcessTrains) {
+#ifndef SPLAT_MPIEXEC
+  GTEST_SKIP() << "built without MPI (SPLAT_MPI=OFF, or no MPI library found): no mpirun to run";
+#else
+  const fs::path dir = test::scratch_dir("train_cli_mpi");
+  const std::string common = "--batch 2 --iters 160 --test-every 80 --checkpoint-every 80 ";
+  auto r = test::run_command(train_command(dir / "one", common + "--threads 2 --quiet"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_command(mpirun(2) + train_command(dir / "two", common + "--threads 1"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  EXPECT_TRUE(test::read_file(dir / "one" / "model.ply") == test::read_file(dir / "two" / "model.ply"))
+      << "2 ranks trained a different model from 1 process";
+  EXPECT_TRUE(test::read_file(dir / "one" / "checkpoint.ckpt") == test::read_file(dir / "two" / "checkpoint.ckpt"));
+  const nlohmann::json one = read_json(dir / "one" / "metrics.json"), two = read_json(dir / "two" / "metrics.json");
+  EXPECT_EQ(one.at("ranks"), 1);
+  EXPECT_EQ(two.at("ranks"), 2);
+  EXPECT_EQ(two.at("test"), one.at("test"));
+  EXPECT_EQ(two.at("history").size(), one.at("history").size());
+  // Only rank 0 reported: one "done" line.
+  std::size_t done = 0;
+  for (std::size_t at = r.out.find("done: "); at != std::string::npos; at = r.out.find("done: ", at + 1)) ++done;
+  EXPECT_EQ(done, 1u) << r.out;
+  EXPECT_NE(two.at("ms_per_iteration").find("exchange"), two.at("ms_per_iteration").end());
+
+  // Batches that would make the model depend on the rank count are refused, naming why.
+  r = test::run_command(mpirun(2) + train_command(dir / "odd", "--batch 3 --iters 30 --quiet --threads 1"), dir);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("power of two"), std::string::npos) << r.err;
+  r = test::run_command(mpirun(2) + nerf_command(dir / "nerf", "--iters 10 --quiet --threads 1"), dir);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("the NeRF trains in one process"), std::string::npos) << r.err;
+#endif
+}
+
+// A rank killed mid-run ends the run on every rank within seconds, the launcher naming the
+// rank, and the last checkpoint resumes.
+TEST(TrainCli, AKilledMpiRankEndsTheRunAndTheCheckpointResumes) {
+#ifndef SPLAT_MPIEXEC
+  GTEST_SKIP() << "built without MPI (SPLAT_MPI=OFF, or no MPI library found): no mpirun to run";
+#else
+  const fs::path dir = test::scratch_dir("train_cli_mpi_kill");
+  const fs::path out = dir / "out";
+  std::string script = "(";
+  script.append(mpirun(2))
+      .append(train_command(out, "--batch 2 --iters 1000000 --checkpoint-every 20 --test-every 0 --quiet --threads 1"))
+      .append(" > " + (dir / "log").string() + " 2>&1 & launcher=$!; ")
+      .append("for i in $(seq 1 600); do [ -f " + (out / "checkpoint.ckpt").string() + " ] && break; sleep 0.1; done; ")
+      // Rank 1: the process whose environment says so.
+      .append("for p in $(pgrep -f " + out.string() + "); do ")
+      .append("if tr '\\0' '\\n' < /proc/$p/environ 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=1; then kill -9 $p; fi; done; ")
+      .append("start=$(date +%s%N); wait $launcher; echo $? > " + (dir / "code").string() + "; ")
+      .append("echo $(( ($(date +%s%N) - start) / 1000000 )) > " + (dir / "ms").string() + ")");
+  test::run_command(script, dir);
+  EXPECT_NE(std::stoi(test::read_file(dir / "code")), 0);
+  EXPECT_LT(std::stoi(test::read_file(dir / "ms")), 20000) << "the other rank did not end within 20 s";
+  const std::string log = test::read_file(dir / "log");
+  EXPECT_NE(log.find("rank 1"), std::string::npos) << log;
+  ASSERT_TRUE(fs::exists(out / "checkpoint.ckpt"));
+  const auto r = test::run_command(
+      mpirun(2) + train_command(out, "--batch 2 --iters 1000000 --max-seconds 2 --test-every 0 --quiet --threads 1 "
+                                     "--resume " + out.string()), dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err << r.out;
+  EXPECT_GT(read_json(out / "metrics.json").at("iterations").get<int>(), 20);
+#endif
 }
 
 // Pose refinement: the corrections are part of the run's state (a resumed run is the same

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -71,7 +72,8 @@ struct Stats {
   std::vector<float> grad, weight;
   std::vector<std::int32_t> radii;
   Stats(std::size_t n, float g, float w) : grad(n, g), weight(n, w), radii(n, 5) {}
-  BackwardStats view() const { return {grad, radii, weight, 64, 64}; }
+  // One view's statistics, as a step without --batch passes them.
+  std::array<BackwardStats, 1> view() const { return {BackwardStats{grad, radii, weight, 64, 64}}; }
 };
 
 CompactSettings growth_settings() {

@@ -1,0 +1,45 @@
+#pragma once
+// A training step over a batch of B views (`--batch B`): the loss is the mean of the views'
+// losses, so the step's gradient is the sum of the views' gradients over B. Its iteration
+// count is in views: a step advances it by B, so every schedule keeps its meaning (densify
+// every 100 views, grow until view 15,000, ...) whatever the batch, and runs compare at an
+// equal number of views seen.
+//
+// The sum is taken in one fixed order, a pairwise tree over the views in batch order: each
+// new view's gradient joins the last partial sum while the two cover equally many views
+// (a binary counter), and what is left is added from the right. A run of B views split into K
+// contiguous blocks of B/K views, B/K a power of two, makes each block one whole subtree, so
+// summing each block on its own and then the K block sums in the same way gives the same
+// floats bit for bit: the model does not depend on how the views are shared out (data-parallel
+// training, issue 18).
+#include <cstddef>
+#include <vector>
+
+#include "splat/gaussians/gaussian_model.hpp"
+
+namespace splat {
+
+// The pairwise sum above, of GaussianModel-shaped gradients of one shape.
+class PairwiseGradientSum {
+ public:
+  // Starts an empty sum (keeps the buffers).
+  void clear() { count_ = 0; }
+  // Adds the next view's gradient (or the next block's sum): copied in, then merged.
+  void add(const GaussianModel& gradient);
+  // The same without the copy: takes `gradient`'s contents and leaves it a spare buffer of
+  // unspecified values (a rasterizer's backward overwrites its gradient whole).
+  void take(GaussianModel& gradient);
+  // The sum of everything added (at least one add first), which the caller may change in
+  // place (to scale it). It ends the sum: clear() before the next one.
+  GaussianModel& total();
+  std::size_t count() const { return count_; }
+
+ private:
+  // partials_[0 .. count_) hold sums over views_[i] views each, in batch order, sizes
+  // strictly decreasing once merged; the buffers beyond count_ are kept for reuse.
+  std::vector<GaussianModel> partials_;
+  std::vector<std::size_t> views_;
+  std::size_t count_ = 0;
+};
+
+}  // namespace splat
