@@ -121,10 +121,14 @@ NerfTrainer::NerfTrainer(const Dataset& dataset, const NerfTrainingConfig& confi
   last_good_model_ = model_;
 }
 
+double NerfTrainer::schedule_progress() const {
+  if (config_.schedule_follows_budget && config_.max_seconds > 0) return std::min(1.0, time_budget_fraction_);
+  return std::min(1.0, double(iteration_) / double(std::max(1, config_.lr_decay_iterations)));
+}
+
 float NerfTrainer::learning_rate() const {
   // Log-linear from lr_init to lr_final over the run, as the paper's exponential decay.
-  double progress = std::min(1.0, double(iteration_) / double(std::max(1, config_.lr_decay_iterations)));
-  if (config_.schedule_follows_budget && config_.max_seconds > 0) progress = std::min(1.0, time_budget_fraction_);
+  const double progress = schedule_progress();
   return float(std::exp(std::log(config_.lr_init) * (1 - progress) + std::log(config_.lr_final) * progress));
 }
 
@@ -150,8 +154,10 @@ void NerfTrainer::update_occupancy() {
 
 void NerfTrainer::update_average() {
   if (config_.parameter_average_decay <= 0) return;
-  const double t = iteration_;  // steps taken before this one
-  const float d = float(std::min(double(config_.parameter_average_decay), (1 + t) / (10 + t)));
+  // The average starts halfway through the rate's decay (until then it is the iterate): at
+  // a high rate the model still improves quickly and an average would lag behind it
+  // (thin_structures, 1,500 iterations, the average from the start: −0.20 dB).
+  const float d = schedule_progress() < kAverageFromProgress ? 0.0f : config_.parameter_average_decay;
   const auto move = [d](std::span<const float> live, std::span<float> average) {
     for (std::size_t i = 0; i < live.size(); ++i) average[i] = d * average[i] + (1 - d) * live[i];
   };

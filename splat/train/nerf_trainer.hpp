@@ -19,6 +19,8 @@ namespace splat {
 
 // The iteration limit of a NeRF run with a time budget and no iteration count of its own.
 constexpr int kNerfIterationsUnderBudget = kMaxTrainingIterations;
+// Where in the rate's decay the parameter average starts (parameter_average_decay).
+constexpr double kAverageFromProgress = 0.5;
 // The largest batch: its samples' activations grow with it (docs/DESIGN.md §4.7).
 constexpr int kMaxNerfRaysPerBatch = 16384;
 
@@ -56,11 +58,10 @@ struct NerfTrainingConfig {
   // The model a run scores and saves is an exponential moving average of the parameters
   // Adam steps through (Polyak averaging): the last steps, even at lr_final, scatter the
   // networks around the minimum by their gradient noise, and their mean sits nearer to it.
-  // Each step the average moves (1 − d) of the way to the parameters, d = min(this,
-  // (1 + t)/(10 + t)) at step t, so a short run averages over about its last tenth and a long
-  // one over the last ~1/(1 − this) steps. 0 = off (the model is Adam's iterate). lego400,
-  // 15-minute runs, the average against the iterate from the same run: bench/README.md,
-  // issue 16.
+  // From halfway through the rate's decay (kAverageFromProgress) each step moves the average
+  // (1 − this) of the way to the parameters, so it spans the last ~1/(1 − this) steps; before
+  // that it is the parameters. 0 = off (the model is Adam's iterate). lego400, 15-minute runs,
+  // the average against the iterate of the same run: bench/README.md, issue 16.
   float parameter_average_decay = 0.998f;
   int test_interval = 2000;       // iterations between test evaluations (0 = end only)
   int checkpoint_interval = 5000;  // iterations between checkpoints (0 = none)
@@ -106,6 +107,9 @@ class NerfTrainer {
 
   // The rate the next step takes (the decay above).
   float learning_rate() const;
+  // How far the rate's decay has gone, 0 … 1: the iterations' share of lr_decay_iterations,
+  // or under a budget (schedule_follows_budget) the share of the time spent.
+  double schedule_progress() const;
 
  private:
   // Throws TrainingDiverged naming `iteration` and the first network with a non-finite value.

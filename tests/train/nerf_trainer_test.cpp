@@ -84,13 +84,15 @@ TEST(NerfTrainer, LearningRateDecaysOverTheTimeBudget) {
   }
 }
 
-// The model a run scores and saves is the average of Adam's iterates: after each step it
-// moves (1 − d) of the way to the iterate, d = min(decay, (1 + t)/(10 + t)) at step t.
+// The model a run scores and saves is the average of Adam's iterates: from halfway through
+// the rate's decay each step moves it (1 − decay) of the way to the iterate; before, it is
+// the iterate.
 TEST(NerfTrainer, TheModelIsTheRunningAverageOfTheIterates) {
   const Dataset dataset = small_dataset();
   NerfTrainingConfig config = small_config(-3.0f);
   config.rays_per_batch = 64;
-  config.parameter_average_decay = 0.3f;  // reached at t = 3: both sides of the min are used
+  config.lr_decay_iterations = 4;  // halfway after step 2
+  config.parameter_average_decay = 0.3f;
   config.occupancy_warmup = config.occupancy_interval = 4;  // a grid update within the steps
   NerfTrainer trainer(dataset, config);
   const auto parameters = [](const NerfModel& m) {
@@ -101,12 +103,15 @@ TEST(NerfTrainer, TheModelIsTheRunningAverageOfTheIterates) {
   std::vector<float> expected = parameters(trainer.iterate());
   ASSERT_EQ(parameters(trainer.model()), expected);
   for (int t = 0; t < 6; ++t) {
+    const bool averaging = trainer.schedule_progress() >= kAverageFromProgress;
+    EXPECT_EQ(averaging, t >= 2);
     trainer.step();
-    const float d = std::min(0.3f, float((1.0 + t) / (10.0 + t)));
+    const float d = averaging ? 0.3f : 0.0f;
     const std::vector<float> iterate = parameters(trainer.iterate());
     for (std::size_t i = 0; i < expected.size(); ++i) expected[i] = d * expected[i] + (1 - d) * iterate[i];
     ASSERT_EQ(parameters(trainer.model()), expected) << "after step " << t + 1;
-    ASSERT_NE(parameters(trainer.model()), iterate) << "after step " << t + 1;
+    if (averaging) ASSERT_NE(parameters(trainer.model()), iterate) << "after step " << t + 1;
+    else ASSERT_EQ(parameters(trainer.model()), iterate) << "after step " << t + 1;
   }
   // The average renders through the iterate's grid, updated at step 4.
   EXPECT_GT(*std::max_element(trainer.iterate().grid.values().begin(), trainer.iterate().grid.values().end()), 0.0f);
