@@ -44,13 +44,20 @@ class MpiProcessGroup final : public ProcessGroup {
   int size() const override { return size_; }
 
   void all_gather(std::span<const float> mine, std::span<float> all) override {
-    if (mine.size() > std::size_t(INT_MAX))
-      throw ArgumentError("a rank's share of the step (" + std::to_string(mine.size()) +
-                          " floats) is more than one MPI message holds: use a smaller --batch");
+    check_message_size(mine.size());
     if (all.size() != mine.size() * std::size_t(size_))
       throw ArgumentError("all_gather: " + std::to_string(all.size()) + " slots for " + std::to_string(size_) +
                           " × " + std::to_string(mine.size()) + " floats");
     MPI_Allgather(mine.data(), int(mine.size()), MPI_FLOAT, all.data(), int(mine.size()), MPI_FLOAT, MPI_COMM_WORLD);
+  }
+
+  void all_to_all(std::span<const float> send, std::span<float> receive) override {
+    const std::size_t part = send.size() / std::size_t(size_);
+    check_message_size(part);
+    if (send.size() != part * std::size_t(size_) || receive.size() != send.size())
+      throw ArgumentError("all_to_all: " + std::to_string(send.size()) + " floats to send and " +
+                          std::to_string(receive.size()) + " to receive over " + std::to_string(size_) + " ranks");
+    MPI_Alltoall(send.data(), int(part), MPI_FLOAT, receive.data(), int(part), MPI_FLOAT, MPI_COMM_WORLD);
   }
 
   void broadcast(std::span<double> values) override {
@@ -64,6 +71,13 @@ class MpiProcessGroup final : public ProcessGroup {
   }
 
  private:
+  // MPI counts are ints.
+  static void check_message_size(std::size_t floats) {
+    if (floats > std::size_t(INT_MAX))
+      throw ArgumentError("a rank's share of the step (" + std::to_string(floats) +
+                          " floats) is more than one MPI message holds: use a smaller --batch");
+  }
+
   int rank_ = 0, size_ = 1;
 };
 #endif

@@ -50,10 +50,17 @@ fs::path checkpoint_file(const fs::path& resume) {
 struct WindowAverages {
   double loss = 0;
   IterationTimings timings;
+  // Over several ranks: bytes sent, and the fractions of the rows drawn in this rank's block
+  // and in the batch.
+  double exchange_bytes = 0, block_visible = 0, batch_visible = 0;
   int count = 0;
   void add(const StepResult& r) {
     loss += r.loss;
     timings += r.timings;
+    const double rows = double(std::max<std::size_t>(1, r.exchange.rows));
+    exchange_bytes += double(r.exchange.bytes_sent);
+    block_visible += double(r.exchange.block_visible_rows) / rows;
+    batch_visible += double(r.exchange.batch_visible_rows) / rows;
     ++count;
   }
 };
@@ -241,6 +248,12 @@ nlohmann::json TrainingRun::metrics(const std::string& stopped_by, double train_
   m["peak_memory_bytes"] = peak_memory_bytes();
   m["threads"] = options_.threads > 0 ? options_.threads : tbb::info::default_concurrency();
   m["ranks"] = options_.group ? options_.group->size() : 1;
+  if (whole_run_.exchange_bytes > 0) {  // several ranks: rank 0's means per step
+    const double steps = std::max(1, whole_run_.count);
+    m["exchange"] = {{"megabytes_sent", whole_run_.exchange_bytes / steps / 1e6},
+                     {"rows_drawn_in_block", whole_run_.block_visible / steps},
+                     {"rows_drawn_in_batch", whole_run_.batch_visible / steps}};
+  }
   trainer_->add_metrics(m);
   m["data"] = options_.data.string();
   m["train_views"] = dataset_.train.size();

@@ -15,6 +15,9 @@ class ProcessGroup {
   // Every rank's `mine` (the same length on each), concatenated in rank order into `all`
   // (size() × mine.size() values).
   virtual void all_gather(std::span<const float> mine, std::span<float> all) = 0;
+  // `send` holds size() equal parts, the q-th for rank q; `receive` (as long) gets every
+  // rank's part for this one, in rank order.
+  virtual void all_to_all(std::span<const float> send, std::span<float> receive) = 0;
   // Rank 0's values, on every rank.
   virtual void broadcast(std::span<double> values) = 0;
   // Whether any rank passed true.

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
@@ -243,7 +242,12 @@ StepResult SplatTrainer::step() {
   // The mean loss's gradient: the views' sum over the batch (a single view's as it is).
   GaussianModel* grads = &grads_.params;
   if (views > 1) {
-    grads = ranks > 1 ? &exchange_batch() : &batch_gradient_.total();
+    if (ranks > 1) {
+      grads = &exchange_.exchange(*group_, batch_gradient_.total(), view_stats_);
+      result.exchange = exchange_.last_report();
+    } else {
+      grads = &batch_gradient_.total();
+    }
     grads->scale(1.0f / float(views));
   }
   last_step_gradient_ = grads;
@@ -313,74 +317,6 @@ void SplatTrainer::set_process_group(ProcessGroup* group) {
                           "(1, 2, 4, ...) so that the model does not depend on the number of ranks");
   }
   group_ = group && group->size() > 1 ? group : nullptr;
-}
-
-namespace {
-
-// A view's statistics travel as floats: its three loss figures (each double as two floats'
-// bits, so they arrive exact), its image size, then [N] gradient norms, blending weights
-// and radii (integers below 2²⁴, exact as floats).
-constexpr std::size_t kViewHeaderFloats = 8;
-
-void pack_double(double value, float* out) { std::memcpy(out, &value, sizeof(double)); }
-double unpack_double(const float* in) {
-  double value;
-  std::memcpy(&value, in, sizeof(double));
-  return value;
-}
-
-}  // namespace
-
-GaussianModel& SplatTrainer::exchange_batch() {
-  const int ranks = group_->size(), views = config_.batch, per_rank = views / ranks;
-  const int first = group_->rank() * per_rank;
-  const std::size_t n = model_.size();
-  // This rank's block: the pairwise sum of its views' gradients, then each view's
-  // statistics; every rank sends as many floats.
-  const GaussianModel& block = batch_gradient_.total();
-  const std::size_t gradient_floats = block.value_count(), view_floats = kViewHeaderFloats + 3 * n;
-  const std::size_t message = gradient_floats + view_floats * std::size_t(per_rank);
-  exchange_send_.resize(message);
-  exchange_receive_.resize(message * std::size_t(ranks));
-  block.write_values({exchange_send_.data(), gradient_floats});
-  for (int v = 0; v < per_rank; ++v) {
-    const ViewStatistics& stats = view_stats_[std::size_t(first + v)];
-    float* out = exchange_send_.data() + gradient_floats + view_floats * std::size_t(v);
-    pack_double(stats.loss.loss, out);
-    pack_double(stats.loss.l1, out + 2);
-    pack_double(stats.loss.ssim, out + 4);
-    out[6] = float(stats.width);
-    out[7] = float(stats.height);
-    out += kViewHeaderFloats;
-    std::copy(stats.viewspace_grad_norm.begin(), stats.viewspace_grad_norm.end(), out);
-    std::copy(stats.blend_weight.begin(), stats.blend_weight.end(), out + n);
-    for (std::size_t i = 0; i < n; ++i) out[2 * n + i] = float(stats.radii[i]);
-  }
-  group_->all_gather(exchange_send_, exchange_receive_);
-
-  // The blocks' sums in rank order through the same pairwise sum (view_batch.hpp: the whole
-  // batch's, bit for bit), and every view's statistics in batch order.
-  batch_gradient_.clear();
-  for (int r = 0; r < ranks; ++r) {
-    const float* in = exchange_receive_.data() + message * std::size_t(r);
-    exchange_block_.sh_degree = model_.sh_degree;
-    exchange_block_.resize(n);
-    exchange_block_.read_values({in, gradient_floats});
-    batch_gradient_.take(exchange_block_);
-    for (int v = 0; v < per_rank; ++v) {
-      ViewStatistics& stats = view_stats_[std::size_t(r * per_rank + v)];
-      const float* view = in + gradient_floats + view_floats * std::size_t(v);
-      stats.loss = {unpack_double(view), unpack_double(view + 2), unpack_double(view + 4)};
-      stats.width = int(view[6]);
-      stats.height = int(view[7]);
-      view += kViewHeaderFloats;
-      stats.viewspace_grad_norm.assign(view, view + n);
-      stats.blend_weight.assign(view + n, view + 2 * n);
-      stats.radii.resize(n);
-      for (std::size_t i = 0; i < n; ++i) stats.radii[i] = std::int32_t(view[2 * n + i]);
-    }
-  }
-  return batch_gradient_.total();
 }
 
 void SplatTrainer::check_parameters_finite() const {

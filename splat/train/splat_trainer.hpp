@@ -17,6 +17,7 @@
 #include "splat/optim/far_steps.hpp"
 #include "splat/optim/photometric_loss.hpp"
 #include "splat/raster/rasterizer.hpp"
+#include "splat/train/batch_exchange.hpp"
 #include "splat/train/density_strategy.hpp"
 #include "splat/train/evaluation.hpp"
 #include "splat/train/exposure_compensation.hpp"
@@ -71,6 +72,7 @@ struct StepResult {
   int resolution_divisor = 1;  // the image trained on was 1/this of the full size
   IterationTimings timings;
   DensityStepReport density;
+  ExchangeReport exchange;  // several ranks only
 };
 
 class SplatTrainer {
@@ -174,19 +176,10 @@ class SplatTrainer {
   RenderResult render_;
   RasterGradients grads_;
   // One step's batch (config_.batch views): which views, each one's statistics for the
-  // density strategy, and the pairwise sum of their gradients (view_batch.hpp).
-  struct ViewStatistics {
-    LossValue loss;
-    std::vector<float> viewspace_grad_norm, blend_weight;
-    std::vector<std::int32_t> radii;
-    int width = 0, height = 0;
-  };
-  // Over several ranks: sends this rank's block sum and view statistics, receives every
-  // rank's, and returns the batch's gradient sum (view_stats_ then holds every view's).
-  GaussianModel& exchange_batch();
+  // density strategy, and the pairwise sum of their gradients (view_batch.hpp); over several
+  // ranks, what they send each other (batch_exchange.hpp).
   ProcessGroup* group_ = nullptr;  // null: this process takes every view
-  std::vector<float> exchange_send_, exchange_receive_;
-  GaussianModel exchange_block_;
+  BatchExchange exchange_;
   std::vector<std::size_t> batch_views_;
   std::vector<ViewStatistics> view_stats_;
   std::vector<BackwardStats> backward_stats_;  // views of view_stats_

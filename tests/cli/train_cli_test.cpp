@@ -176,31 +176,43 @@ std::string mpirun(int ranks) {
 }
 #endif
 
-// Data-parallel training: two ranks of one thread each train, at the same --batch, the model
-// one process of two threads trains, byte for byte; rank 0 alone writes and reports.
+// Data-parallel training: two ranks of one thread each, and four (oversubscribed), train at
+// the same --batch the model one process of two threads trains, byte for byte; rank 0 alone
+// writes and reports.
 TEST(TrainCli, TwoMpiRanksTrainTheModelOneProcessTrains) {
 #ifndef SPLAT_MPIEXEC
   GTEST_SKIP() << "built without MPI (SPLAT_MPI=OFF, or no MPI library found): no mpirun to run";
 #else
   const fs::path dir = test::scratch_dir("train_cli_mpi");
-  const std::string common = "--batch 2 --iters 160 --test-every 80 --checkpoint-every 80 ";
+  const std::string common = "--batch 4 --iters 160 --test-every 80 --checkpoint-every 80 ";
   auto r = test::run_command(train_command(dir / "one", common + "--threads 2 --quiet"), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  r = test::run_command(mpirun(2) + train_command(dir / "two", common + "--threads 1"), dir);
-  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
-  EXPECT_TRUE(test::read_file(dir / "one" / "model.ply") == test::read_file(dir / "two" / "model.ply"))
-      << "2 ranks trained a different model from 1 process";
-  EXPECT_TRUE(test::read_file(dir / "one" / "checkpoint.ckpt") == test::read_file(dir / "two" / "checkpoint.ckpt"));
-  const nlohmann::json one = read_json(dir / "one" / "metrics.json"), two = read_json(dir / "two" / "metrics.json");
+  const nlohmann::json one = read_json(dir / "one" / "metrics.json");
   EXPECT_EQ(one.at("ranks"), 1);
-  EXPECT_EQ(two.at("ranks"), 2);
-  EXPECT_EQ(two.at("test"), one.at("test"));
-  EXPECT_EQ(two.at("history").size(), one.at("history").size());
-  // Only rank 0 reported: one "done" line.
-  std::size_t done = 0;
-  for (std::size_t at = r.out.find("done: "); at != std::string::npos; at = r.out.find("done: ", at + 1)) ++done;
-  EXPECT_EQ(done, 1u) << r.out;
-  EXPECT_NE(two.at("ms_per_iteration").find("exchange"), two.at("ms_per_iteration").end());
+  EXPECT_FALSE(one.contains("exchange"));
+  for (const int ranks : {2, 4}) {
+    const fs::path out = dir / ("ranks" + std::to_string(ranks));
+    r = test::run_command(mpirun(ranks) + train_command(out, common + "--threads 1"), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+    EXPECT_TRUE(test::read_file(dir / "one" / "model.ply") == test::read_file(out / "model.ply"))
+        << ranks << " ranks trained a different model from 1 process";
+    EXPECT_TRUE(test::read_file(dir / "one" / "checkpoint.ckpt") == test::read_file(out / "checkpoint.ckpt"));
+    const nlohmann::json several = read_json(out / "metrics.json");
+    EXPECT_EQ(several.at("ranks"), ranks);
+    EXPECT_EQ(several.at("test"), one.at("test"));
+    EXPECT_EQ(several.at("history").size(), one.at("history").size());
+    // Only rank 0 reported: one "done" line.
+    std::size_t done = 0;
+    for (std::size_t at = r.out.find("done: "); at != std::string::npos; at = r.out.find("done: ", at + 1)) ++done;
+    EXPECT_EQ(done, 1u) << r.out;
+    EXPECT_NE(several.at("ms_per_iteration").find("exchange"), several.at("ms_per_iteration").end());
+    const nlohmann::json& exchange = several.at("exchange");
+    EXPECT_GT(exchange.at("megabytes_sent").get<double>(), 0.0);
+    const double block = exchange.at("rows_drawn_in_block"), batch = exchange.at("rows_drawn_in_batch");
+    EXPECT_GT(block, 0.0);
+    EXPECT_LE(block, batch);
+    EXPECT_LE(batch, 1.0);
+  }
 
   // Batches that would make the model depend on the rank count are refused, naming why.
   r = test::run_command(mpirun(2) + train_command(dir / "odd", "--batch 3 --iters 30 --quiet --threads 1"), dir);
