@@ -4,8 +4,9 @@
 #   bash bench/batch_bench.sh OUT [quality|scenes|scaling]...
 #
 #   quality   lego400 at --batch 1, 2 and 4, LEGO_VIEWS views each (default 10,000: the
-#             default schedule compressed to that length), one thread each, two at a time
-#             (view-limited, so the pairing does not change the results)
+#             default schedule compressed to that length), one after another: batch 1 as one
+#             process of 2 threads, batches 2 and 4 as 2 MPI ranks of one thread each (the
+#             same models as one process would train, and a real run's exchange figures)
 #   scenes    every scene in scenes/ at --batch 1, 2 and 4, SCENE_VIEWS views each (default
 #             3,000), one thread each, two at a time
 #   scaling   the cost of the exchange: lego400 from N random Gaussians (N in GAUSSIANS,
@@ -21,7 +22,7 @@ out=${1:?usage: bench/batch_bench.sh OUT [quality|scenes|scaling]...}
 shift
 selection=("$@")
 [ ${#selection[@]} -eq 0 ] && selection=(quality scenes scaling)
-train=$PWD/build/train/splat-train
+train=${TRAIN:-$PWD/build/train/splat-train}  # TRAIN=... compares another build
 lego=../shared/data/lego400
 lego_views=${LEGO_VIEWS:-10000}
 scene_views=${SCENE_VIEWS:-3000}
@@ -47,10 +48,9 @@ ranks() {  # ranks K NAME ARGS...: the same under mpirun with K ranks of one thr
 }
 
 quality() {
-  run lego-b1 --data "$lego" --batch 1 --iters "$lego_views" --threads 1 &
-  run lego-b2 --data "$lego" --batch 2 --iters "$lego_views" --threads 1 &
-  wait
-  run lego-b4 --data "$lego" --batch 4 --iters "$lego_views" --threads 1
+  run lego-b1 --data "$lego" --batch 1 --iters "$lego_views" --threads 2
+  ranks 2 lego-b2 --data "$lego" --batch 2 --iters "$lego_views"
+  ranks 2 lego-b4 --data "$lego" --batch 4 --iters "$lego_views"
 }
 
 scenes() {

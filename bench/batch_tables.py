@@ -26,11 +26,16 @@ def quality(out):
     for batch in (1, 2, 4):
         m = load(out / f"lego-b{batch}")
         if m:
-            rows.append(f"| {batch} | {m['iterations']:,} | {m['num_gaussians']:,} | {psnr(m):.3f} | "
-                        f"{m['test']['ssim']:.4f} | {m['train_seconds']:.0f} |")
+            e = m.get("exchange", {})
+            rows.append(f"| {batch} | {m['ranks']} | {m['iterations']:,} | {m['num_gaussians']:,} | {psnr(m):.3f} | "
+                        f"{m['test']['ssim']:.4f} | {m['train_seconds']:.0f} | "
+                        f"{m['ms_per_iteration'].get('exchange', 0):.1f} | {e.get('megabytes_sent', 0):.1f} | "
+                        f"{e.get('rows_drawn_in_block', float('nan')):.3f} | "
+                        f"{e.get('rows_drawn_in_batch', float('nan')):.3f} |")
     if rows:
-        print("| batch | views | Gaussians | test PSNR | SSIM | training s (1 thread, paired) |")
-        print("|---|---|---|---|---|---|")
+        print("| batch | ranks | views | Gaussians | test PSNR | SSIM | training s | exchange ms/step "
+              "| MB sent/rank/step | rows drawn in block | in batch |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|")
         print("\n".join(rows))
         print()
 
@@ -60,11 +65,12 @@ def scaling(out):
         t = m["ms_per_iteration"]
         rows.append(f"| {m['num_gaussians']:,} | {m['ranks']} | {t['total']:.1f} | {t['forward']:.1f} | "
                     f"{t['backward']:.1f} | {t.get('exchange', 0):.1f} | {t['optimizer']:.1f} | "
-                    f"{m.get('exchange_megabytes_per_step', 0):.1f} |")
+                    f"{m.get('exchange', {}).get('megabytes_sent', float('nan')):.1f} | "
+                    f"{m.get('exchange', {}).get('rows_drawn_in_block', float('nan')):.3f} |")
     if rows:
         print("| Gaussians (end) | ranks | ms per step of 4 views | forward | backward | exchange | optimizer "
-              "| MB sent per rank per step |")
-        print("|---|---|---|---|---|---|---|---|")
+              "| MB sent per rank per step | rows drawn in a block |")
+        print("|---|---|---|---|---|---|---|---|---|")
         print("\n".join(rows))
 
 

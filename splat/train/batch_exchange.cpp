@@ -59,38 +59,34 @@ GaussianModel& BatchExchange::exchange(ProcessGroup& group, const GaussianModel&
   const std::size_t values = block.value_count(), slice = (values + ranks - 1) / ranks;
 
   // 1. Slice q of every rank's block to rank q (the last slice padded with zeros), and this
-  // rank's slice of the batch's sum.
-  slices_out_.assign(slice * ranks, 0.0f);
+  // rank's slice of the batch's sum, added up in place.
+  slices_out_.resize(slice * ranks);
   block.write_values({slices_out_.data(), values});
+  std::fill(slices_out_.begin() + std::ptrdiff_t(values), slices_out_.end(), 0.0f);
   slices_in_.resize(slice * ranks);
   group.all_to_all(slices_out_, slices_in_);
   slice_sum_.clear();
   for (std::size_t q = 0; q < ranks; ++q) {
-    slice_.assign(slices_in_.begin() + std::ptrdiff_t(q * slice), slices_in_.begin() + std::ptrdiff_t((q + 1) * slice));
-    slice_sum_.take(slice_);
+    std::span<float> from_rank_q{slices_in_.data() + q * slice, slice};
+    slice_sum_.take(from_rank_q);
   }
-  const std::vector<float>& my_sum = slice_sum_.total();
+  const std::span<float> my_sum = slice_sum_.total();
 
-  // 2. Every rank's summed slice and views, to every rank.
-  const std::size_t per_view = view_floats(n), message = slice + per_rank * per_view;
-  gathered_out_.resize(message);
-  std::copy(my_sum.begin(), my_sum.end(), gathered_out_.begin());
-  for (std::size_t v = 0; v < per_rank; ++v)
-    pack_view(views[rank * per_rank + v], n, gathered_out_.data() + slice + v * per_view);
-  gathered_in_.resize(message * ranks);
-  group.all_gather(gathered_out_, gathered_in_);
-
-  values_.resize(slice * ranks);
-  for (std::size_t q = 0; q < ranks; ++q) {
-    const float* in = gathered_in_.data() + q * message;
-    std::copy(in, in + slice, values_.begin() + std::ptrdiff_t(q * slice));
-    for (std::size_t v = 0; v < per_rank; ++v) unpack_view(in + slice + v * per_view, n, views[q * per_rank + v]);
-  }
+  // 2. Every rank's summed slice, then every rank's views, to every rank.
+  summed_slices_.resize(slice * ranks);
+  group.all_gather(my_sum, summed_slices_);
   total_.sh_degree = block.sh_degree;
   total_.resize(n);
-  total_.read_values({values_.data(), values});
+  total_.read_values({summed_slices_.data(), values});
 
-  report_.bytes_sent = sizeof(float) * (ranks - 1) * (slice + message);
+  const std::size_t per_view = view_floats(n), views_message = per_rank * per_view;
+  views_out_.resize(views_message);
+  for (std::size_t v = 0; v < per_rank; ++v) pack_view(views[rank * per_rank + v], n, views_out_.data() + v * per_view);
+  views_in_.resize(views_message * ranks);
+  group.all_gather(views_out_, views_in_);
+  for (std::size_t v = 0; v < views.size(); ++v) unpack_view(views_in_.data() + v * per_view, n, views[v]);
+
+  report_.bytes_sent = sizeof(float) * (ranks - 1) * (2 * slice + views_message);
   report_.rows = n;
   drawn_.assign(n, 0);
   for (std::size_t v = 0; v < views.size(); ++v) {

@@ -10,8 +10,8 @@
 //  1. all-to-all: the flattened values are cut into K equal slices; rank q receives slice q
 //     of every rank's block sum and adds the K of them through the pairwise sum, in rank
 //     order (the tree is the same for every element, so this is slice q of the whole sum);
-//  2. all-gather: each rank's summed slice, together with its views' statistics, goes to
-//     every rank, which puts the slices back together.
+//  2. all-gather: each rank's summed slice goes to every rank, which puts them back
+//     together; a second all-gather does the same with every rank's views' statistics.
 // A rank sends about 2·(K − 1)/K of a gradient plus (K − 1) × its views' statistics.
 #include <cstddef>
 #include <cstdint>
@@ -52,9 +52,9 @@ class BatchExchange {
   const ExchangeReport& last_report() const { return report_; }
 
  private:
-  std::vector<float> slices_out_, slices_in_, slice_;
-  PairwiseSum<std::vector<float>> slice_sum_;
-  std::vector<float> gathered_out_, gathered_in_, values_;
+  std::vector<float> slices_out_, slices_in_;
+  PairwiseSum<std::span<float>> slice_sum_;  // in place, over slices_in_
+  std::vector<float> summed_slices_, views_out_, views_in_;
   GaussianModel total_;
   std::vector<std::uint8_t> drawn_;  // [N]: 1 drawn by the block, 2 by the batch
   ExchangeReport report_;

@@ -14,6 +14,7 @@
 // training, issue 18). The tree is the same for every element, so a slice of the flattened
 // values summed on its own (batch_exchange.hpp) gives that slice of the whole sum.
 #include <cstddef>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -24,16 +25,17 @@ namespace splat {
 
 // Element-wise a += b, for the buffers a pairwise sum is taken of.
 inline void add_into(GaussianModel& a, const GaussianModel& b) { a.add(b); }
-void add_into(std::vector<float>& a, const std::vector<float>& b);
+void add_into(std::span<float> a, std::span<const float> b);
 
-// The pairwise sum above, of buffers of one shape (a GaussianModel-shaped gradient, or a
-// slice of flattened values).
+// The pairwise sum above, of buffers of one shape: GaussianModel-shaped gradients, or spans
+// of flattened values, summed in place (the left span of each pair receives the sum).
 template <class Buffer>
 class PairwiseSum {
  public:
   // Starts an empty sum (keeps the buffers).
   void clear() { count_ = 0; }
-  // Adds the next view's gradient (or the next block's sum): copied in, then merged.
+  // Adds the next view's gradient (or the next block's sum): copied in, then merged (for
+  // spans, take: a span's copy is the same memory).
   void add(const Buffer& gradient) {
     Buffer copy = gradient;
     take(copy);
