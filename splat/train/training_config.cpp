@@ -32,6 +32,7 @@ void visit_fields(SplatTrainingConfig& c, Visitor&& v) {
   v("background_b", c.background[2], kUnit);
   v("seed", c.seed, {0, 4294967295.0});
   v("batch", c.batch, {1, kMaxBatchViews});
+  v("batch_lr_exponent", c.batch_lr_exponent, {0, 1});
   v("ssim_weight", c.ssim_weight, kUnit);
   v("position_lr_init", c.position_lr_init, kLogScheduleRate);
   v("position_lr_final", c.position_lr_final, kLogScheduleRate);

@@ -38,6 +38,8 @@ struct SplatTrainingConfig {
   // Iterations count views, so `iterations` must be a multiple of it and every schedule keeps
   // its meaning. 1 = the official one view per step.
   int batch = 1;
+  // A batch's rates are the one-view rates × batch^this (0.5: Grendel-GS's square-root rule).
+  float batch_lr_exponent = 0.5f;
 
   float ssim_weight = 0.2f;          // λ in (1 − λ)·L1 + λ·(1 − SSIM)
   // Learning rates (the position one is scaled by the scene extent and decays exponentially).
