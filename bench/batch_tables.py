@@ -74,11 +74,50 @@ def scaling(out):
         print("\n".join(rows))
 
 
+def exchange_bytes(n, ranks, views_per_rank):
+    """What each rank sends a step (splat/train/batch_exchange.cpp): two slices of the 59·N
+    gradient values to each other rank, and its views' statistics (8 + 3·N floats each)."""
+    slice_ = -(-59 * n // ranks)
+    return 4 * (ranks - 1) * (2 * slice_ + views_per_rank * (8 + 3 * n))
+
+
+def projection(out):
+    """Expected speed-up on K machines like this one, one view per machine a step, from a
+    measured one-machine run: its time per view t and its Adam step a (ms), over a network of
+    W Gbit/s counting the wire time only. One machine takes K·t + a for K views; K machines
+    t + a + bytes/W."""
+    sources = [p for p in sorted(out.glob("scaling-*-k1"), key=lambda p: int(p.name.split("-")[1]))]
+    sources += [out / "lego-b1"]
+    ks = (2, 4, 8, 16, 32)
+    rows = []
+    for path in sources:
+        m = load(path)
+        if not m:
+            continue
+        t = m["ms_per_iteration"]
+        views = int(path.name.split("-")[-1][1:]) if path.name.startswith("lego-b") else 4
+        adam = t["optimizer"]
+        per_view = (t["total"] - adam) / views
+        n = m["num_gaussians"]
+        for gbit in (1, 10, 25):
+            cells = []
+            for k in ks:
+                wire = exchange_bytes(n, k, 1) / (gbit * 1e9 / 8) * 1e3
+                cells.append(f"{(k * per_view + adam) / (per_view + adam + wire):.1f}")
+            rows.append(f"| {path.name} | {n:,} | {per_view:.1f} | {adam:.1f} | {gbit} | " + " | ".join(cells) + " |")
+    if rows:
+        print()
+        print("| measured run | Gaussians | ms per view | Adam ms | Gbit/s | " + " | ".join(f"K = {k}" for k in ks) + " |")
+        print("|---|---|---|---|---|" + "---|" * len(ks))
+        print("\n".join(rows))
+
+
 def main():
     out = pathlib.Path(sys.argv[1])
     quality(out)
     scenes(out)
     scaling(out)
+    projection(out)
 
 
 if __name__ == "__main__":
