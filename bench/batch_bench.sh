@@ -29,13 +29,7 @@ scene_views=${SCENE_VIEWS:-3000}
 read -r -a gaussians <<< "${GAUSSIANS:-30000 100000 300000}"
 mkdir -p "$out"
 
-run() {  # run NAME ARGS...: one splat-train into OUT/NAME, its output kept in OUT/NAME.log
-  local name=$1
-  shift
-  echo "$(date +%T) $name: splat-train $*"
-  "$train" --out "$out/$name" --checkpoint-every 0 --quiet "$@" > "$out/$name.log" 2>&1 ||
-    echo "  failed: see $out/$name.log"
-}
+source bench/run_lib.sh  # run NAME ARGS...
 
 ranks() {  # ranks K NAME ARGS...: the same under mpirun with K ranks of one thread each
   local k=$1 name=$2

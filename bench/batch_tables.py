@@ -3,18 +3,11 @@
 
     python3 bench/batch_tables.py OUT
 """
-import json
 import pathlib
 import re
 import sys
 
-
-def load(path):
-    try:
-        with open(path / "metrics.json") as f:
-            return json.load(f)
-    except (OSError, ValueError):
-        return None
+from run_metrics import load
 
 
 def psnr(m):

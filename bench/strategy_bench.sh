@@ -29,13 +29,7 @@ real_downscale=${REAL_DOWNSCALE:-2}
 read -r -a real_strategies <<< "${REAL_STRATEGIES:-compact official}"
 mkdir -p "$out"
 
-run() {  # run NAME ARGS...: one splat-train into OUT/NAME, its output kept in OUT/NAME.log
-  local name=$1
-  shift
-  echo "$(date +%T) $name: splat-train $*"
-  "$train" --out "$out/$name" --checkpoint-every 0 --quiet "$@" > "$out/$name.log" 2>&1 ||
-    echo "  failed: see $out/$name.log"
-}
+source bench/run_lib.sh  # run NAME ARGS...
 
 scenes() {
   [ -d "$out/scenes" ] || for s in default thin_structures simple fine_texture shiny few_views; do

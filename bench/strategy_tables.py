@@ -3,17 +3,10 @@
 
     python3 bench/strategy_tables.py OUT
 """
-import json
 import pathlib
 import sys
 
-
-def load(path):
-    try:
-        with open(path / "metrics.json") as f:
-            return json.load(f)
-    except (OSError, ValueError):
-        return None
+from run_metrics import load
 
 
 def summary(m):
