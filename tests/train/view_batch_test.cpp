@@ -168,7 +168,8 @@ bool same(const ViewStatistics& a, const ViewStatistics& b) {
 TEST(BatchExchange, EveryRankGetsTheWholeBatchsSumAndEveryViewBitForBit) {
   std::mt19937 rng(5);
   const std::size_t n = 7;  // 7 × 23 = 161 values at SH degree 1
-  for (const auto& [batch, ranks] : {std::pair{2, 2}, {4, 2}, {4, 4}, {8, 4}, {6, 3}}) {
+  for (const auto& [batch_views, rank_count] : {std::pair{2, 2}, {4, 2}, {4, 4}, {8, 4}, {6, 3}}) {
+    const int batch = batch_views, ranks = rank_count;  // plain variables: the threads capture them
     std::vector<GaussianModel> gradients;
     std::vector<ViewStatistics> views;
     for (int v = 0; v < batch; ++v) {
