@@ -14,8 +14,8 @@
 
 #include <tbb/global_control.h>
 
-#include "common/arg_parser.hpp"
-#include "common/run_main.hpp"
+#include "apps/common/arg_parser.hpp"
+#include "apps/common/run_main.hpp"
 #include "splat/core/error.hpp"
 #include "splat/core/frame_change.hpp"
 #include "splat/data/dataset.hpp"

@@ -22,7 +22,7 @@ out=${1:?usage: bench/batch_bench.sh OUT [quality|scenes|scaling]...}
 shift
 selection=("$@")
 [ ${#selection[@]} -eq 0 ] && selection=(quality scenes scaling)
-train=${TRAIN:-$PWD/build/train/splat-train}  # TRAIN=... compares another build
+train=${TRAIN:-$PWD/build/bin/splat-train}  # TRAIN=... compares another build
 lego=../shared/data/lego400
 lego_views=${LEGO_VIEWS:-10000}
 scene_views=${SCENE_VIEWS:-3000}
@@ -49,7 +49,7 @@ quality() {
 
 scenes() {
   [ -d "$out/scenes" ] || for s in default thin_structures simple fine_texture shiny few_views depth_range; do
-    build/scenes/splat-scene render "scenes/$s.json" --out "$out/scenes/$s" > /dev/null
+    build/bin/splat-scene render "scenes/$s.json" --out "$out/scenes/$s" > /dev/null
   done
   for b in 1 2 4; do
     (for s in default thin_structures simple depth_range; do

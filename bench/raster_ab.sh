@@ -17,18 +17,18 @@ for round in $(seq "$rounds"); do
   for side in A B; do
     build="$build_a"; [ "$side" = B ] && build="$build_b"
     render() {  # MODEL CAMERAS SIZE REPEATS LABEL
-      "$build/tools/splat-render" --model "$1" --cameras "$2" --width "$3" --height "$3" \
+      "$build/bin/splat-render" --model "$1" --cameras "$2" --width "$3" --height "$3" \
         --out "$out/render_$side" --bench "$4" --threads 2 > "$out/$5_$side.$round" 2>&1
       echo "$5 $side round $round: $(grep -E 'median|per frame:' "$out/$5_$side.$round" | tr '\n' ' ')"
     }
     render "$conf/lego_subset50k.ply" "$conf/transforms_test.json" 800 10 conformance800
     render "$conf/lego_subset50k.ply" "$conf/transforms_test.json" 400 10 conformance400
     render "$large" "$shared/data/lego400/transforms_test.json" 800 5 large800
-    "$build/tools/splat-grad" --model "$conf/lego_subset50k.ply" --cameras "$conf/transforms_test.json" \
+    "$build/bin/splat-grad" --model "$conf/lego_subset50k.ply" --cameras "$conf/transforms_test.json" \
       --view 0 --width 400 --height 400 --bg 1,1,1 --weights "$conf/gradients/W_r_0.f32" \
       --out "$out/grad_$side.f32" --compare "$conf/gradients/grad_r_0.f32" --bench 20 > "$out/grad_$side.$round" 2>&1
     echo "grad $side round $round: $(grep -E '^bench|relative error' "$out/grad_$side.$round" | tr -s ' ' | tr '\n' ';')"
-    xvfb-run -a -s '-screen 0 1920x1200x24' "$build/viewer/splat-viewer" "$large" --width 800 --height 600 \
+    xvfb-run -a -s '-screen 0 1920x1200x24' "$build/bin/splat-viewer" "$large" --width 800 --height 600 \
       --bench-orbit 10 > "$out/viewer_$side.$round" 2>&1
     echo "viewer $side round $round: $(grep '"full"' "$out/viewer_$side.$round")"
   done

@@ -12,7 +12,7 @@ out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
 for size in 800 400; do
   for run in $(seq "$runs"); do
-    build/tools/splat-render --model "$shared/conformance/lego_subset50k.ply" \
+    build/bin/splat-render --model "$shared/conformance/lego_subset50k.ply" \
       --cameras "$shared/conformance/transforms_test.json" --width "$size" --height "$size" \
       --out "$out" --bench "$repeats" | tail -n 1
   done

@@ -22,7 +22,7 @@ shift
 selection=("$@")
 [ ${#selection[@]} -eq 0 ] && selection=(lego300 lego-full official7k scenes real)
 shared=../shared/data
-train=build/train/splat-train
+train=build/bin/splat-train
 scene_iters=${SCENE_ITERS:-7000}
 real_seconds=${REAL_SECONDS:-600}
 real_downscale=${REAL_DOWNSCALE:-2}
@@ -33,7 +33,7 @@ source bench/run_lib.sh  # run NAME ARGS...
 
 scenes() {
   [ -d "$out/scenes" ] || for s in default thin_structures simple fine_texture shiny few_views; do
-    build/scenes/splat-scene render "scenes/$s.json" --out "$out/scenes/$s" > /dev/null
+    build/bin/splat-scene render "scenes/$s.json" --out "$out/scenes/$s" > /dev/null
   done
   for strategy in compact official; do
     # Two queues of three scenes, each run on one core.

@@ -1,7 +1,7 @@
 // Checkpoints (--resume), of both trainers: each loaded into a trainer of a tiny dataset of
 // four 8 x 8 views, as splat-train would load it.
-#include "fuzz_support.hpp"
-#include "tiny_training_setup.hpp"
+#include "fuzz/fuzz_support.hpp"
+#include "fuzz/tiny_training_setup.hpp"
 #include "splat/train/nerf_trainer.hpp"
 #include "splat/train/splat_trainer.hpp"
 

@@ -1,7 +1,7 @@
 // COLMAP binary files: cameras.bin, images.bin, points3D.bin, each reader on the same input.
 #include <vector>
 
-#include "fuzz_support.hpp"
+#include "fuzz/fuzz_support.hpp"
 #include "splat/data/colmap_readers.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -1,7 +1,7 @@
 // COLMAP text files: cameras.txt, images.txt, points3D.txt, each reader on the same input.
 #include <vector>
 
-#include "fuzz_support.hpp"
+#include "fuzz/fuzz_support.hpp"
 #include "splat/data/colmap_readers.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

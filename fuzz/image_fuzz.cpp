@@ -1,6 +1,6 @@
 // Images (read_image: PNG through libpng, other formats through OpenImageIO), under a .png
 // name as datasets have them; the seeds include a JPEG.
-#include "fuzz_support.hpp"
+#include "fuzz/fuzz_support.hpp"
 #include "splat/data/image_io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -7,12 +7,12 @@
 #include <fstream>
 #include <string>
 
-#include "data/colmap_test_writer.hpp"
-#include "data/png_bytes.hpp"
+#include "tests/data/colmap_test_writer.hpp"
+#include "tests/data/png_bytes.hpp"
 #include "splat/gaussians/demo_model.hpp"
 #include "splat/gaussians/ply_io.hpp"
 #include "splat/nerf/nerf_file.hpp"
-#include "tiny_training_setup.hpp"
+#include "fuzz/tiny_training_setup.hpp"
 
 namespace fs = std::filesystem;
 using namespace splat;

@@ -1,5 +1,5 @@
 // .nerf model files (read_nerf).
-#include "fuzz_support.hpp"
+#include "fuzz/fuzz_support.hpp"
 #include "splat/nerf/nerf_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

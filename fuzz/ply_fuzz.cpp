@@ -1,5 +1,5 @@
 // PLY models (read_ply): the 3DGS layout, ASCII or binary.
-#include "fuzz_support.hpp"
+#include "fuzz/fuzz_support.hpp"
 #include "splat/gaussians/ply_io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

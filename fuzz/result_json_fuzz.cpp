@@ -1,6 +1,6 @@
 // splat-eval result files read back by --report: results.json, sweep.json, stability.json.
-#include "../eval/report.hpp"
-#include "fuzz_support.hpp"
+#include "apps/splat-eval/report.hpp"
+#include "fuzz/fuzz_support.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace splat;

@@ -1,5 +1,5 @@
 // Transforms JSON (load_transforms): cameras of a Blender dataset.
-#include "fuzz_support.hpp"
+#include "fuzz/fuzz_support.hpp"
 #include "splat/data/transforms_json.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -9,11 +9,11 @@ bash scripts/install-deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j "$(nproc)"
 out="out/demo"
-build/scenes/splat-scene render scenes/default.json --out "$out/dataset"
+build/bin/splat-scene render scenes/default.json --out "$out/dataset"
 # 7,000 iterations: 35.5 dB on the test views with about 27,000 Gaussians in two to three
 # minutes of training (scenes/README.md). The schedule spans the run, and much shorter runs
 # lose more than their length: 3,000 iterations give 32.8 dB. splat-train's default is 50,000.
-build/train/splat-train --data "$out/dataset" --out "$out/train" --iters 7000
+build/bin/splat-train --data "$out/dataset" --out "$out/train" --iters 7000
 echo "dataset: $(pwd)/$out/dataset"
 echo "trained model: $(pwd)/$out/train/model.ply (open it in any 3DGS viewer)"
 echo "metrics: $(pwd)/$out/train/metrics.json; test renders: $(pwd)/$out/train/test/*.png"

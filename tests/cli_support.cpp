@@ -1,4 +1,4 @@
-#include "cli_support.hpp"
+#include "tests/cli_support.hpp"
 
 #include <cstdint>
 #include <cstdlib>
@@ -8,7 +8,7 @@
 #include <sys/wait.h>
 
 #include "splat/data/orbit_cameras.hpp"
-#include "splat/data/rendered_dataset.hpp"
+#include "tests/rendered_dataset.hpp"
 #include "splat/gaussians/demo_model.hpp"
 
 namespace splat::test {

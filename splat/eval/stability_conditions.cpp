@@ -1,4 +1,4 @@
-#include "stability_conditions.hpp"
+#include "splat/eval/stability_conditions.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -9,7 +9,7 @@
 #include "splat/core/camera_rig.hpp"
 #include "splat/core/error.hpp"
 #include "splat/core/random.hpp"
-#include "splat/nerf/rays.hpp"
+#include "splat/core/rays.hpp"
 
 namespace splat {
 namespace {

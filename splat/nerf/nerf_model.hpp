@@ -7,7 +7,7 @@
 
 #include "splat/nerf/nerf_mlp.hpp"
 #include "splat/nerf/occupancy_grid.hpp"
-#include "splat/nerf/rays.hpp"
+#include "splat/core/rays.hpp"
 #include "splat/nerf/scene_space.hpp"
 
 namespace splat {

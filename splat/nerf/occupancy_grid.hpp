@@ -21,7 +21,7 @@
 
 #include <glm/glm.hpp>
 
-#include "splat/nerf/rays.hpp"
+#include "splat/core/rays.hpp"
 #include "splat/nerf/scene_space.hpp"
 
 namespace splat {

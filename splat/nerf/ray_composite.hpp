@@ -1,5 +1,5 @@
 #pragma once
-// One NeRF ray through the shared compositor (splat/composite.hpp), forward and backward,
+// One NeRF ray through the shared compositor (splat/composite/composite.hpp), forward and backward,
 // templated on the float type so the gradient tests run it in double.
 //
 // The NeRF's own rule is α = min(0.99, 1 − exp(−σδ)) with no small-α skip (the skip at
@@ -13,17 +13,16 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "splat/composite.hpp"
-#include "splat/raster/raster_constants.hpp"
+#include "splat/composite/composite.hpp"
 
 namespace splat {
 
 // α = min(kMaxAlpha, 1 − exp(−σδ)), the exponential as −expm1(−σδ) so that small σδ keep
-// their digits. The cap is the rasterizer's, and for the same reason: the compositor stops
-// *before* a sample that would take T below kMinTransmittance, so an unclamped opaque sample
-// (σδ > 9.2) met at T = 1 would never be blended: the ray would show the background behind
-// a solid surface, and that sample would get no gradient to learn otherwise. With α ≤ 0.99
-// two opaque samples take T to 1e-4 and the surface shows.
+// their digits. The cap is the compositor's, shared with the rasterizer, for one reason: the
+// compositor stops *before* a sample that would take T below kMinTransmittance, so an
+// unclamped opaque sample (σδ > 9.2) met at T = 1 would never be blended: the ray would show
+// the background behind a solid surface, and that sample would get no gradient to learn
+// otherwise. With α ≤ 0.99 two opaque samples take T to 1e-4 and the surface shows.
 template <class F>
 inline F density_to_alpha(F sigma, F delta) {
   return std::min(F(kMaxAlpha), F(-std::expm1(-sigma * delta)));

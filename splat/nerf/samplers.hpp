@@ -13,7 +13,7 @@
 #include <random>
 #include <span>
 
-#include "splat/nerf/rays.hpp"
+#include "splat/core/rays.hpp"
 
 namespace splat {
 

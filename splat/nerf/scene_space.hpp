@@ -22,7 +22,7 @@
 
 #include <glm/glm.hpp>
 
-#include "splat/nerf/rays.hpp"
+#include "splat/core/rays.hpp"
 
 namespace splat {
 

@@ -7,7 +7,7 @@
 #include "splat/core/error.hpp"
 #include "splat/core/random.hpp"
 #include "splat/optim/step_events.hpp"
-#include "splat/raster/projection_math.hpp"
+#include "splat/gaussians/covariance.hpp"
 
 namespace splat {
 namespace {

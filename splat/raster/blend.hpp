@@ -1,6 +1,6 @@
 #pragma once
 // Stage 3 of the rasterizer: per tile, blend its Gaussians front to back into every pixel
-// through the shared compositor (splat/composite.hpp).
+// through the shared compositor (splat/composite/composite.hpp).
 #include <cstdint>
 
 #include "splat/raster/bin_sort.hpp"

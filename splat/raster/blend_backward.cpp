@@ -5,7 +5,7 @@
 #include <cstring>
 #include <tbb/parallel_for.h>
 
-#include "splat/composite.hpp"
+#include "splat/composite/composite.hpp"
 #include "splat/core/simd.hpp"
 #include "splat/raster/tile_walk.hpp"
 

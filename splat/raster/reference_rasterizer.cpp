@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "splat/composite.hpp"
+#include "splat/composite/composite.hpp"
 #include "splat/raster/rasterizer.hpp"
 #include "splat/raster/raster_constants.hpp"
 

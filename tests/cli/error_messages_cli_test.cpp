@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "cli_support.hpp"
-#include "data/png_bytes.hpp"
-#include "test_support.hpp"
+#include "tests/cli_support.hpp"
+#include "tests/data/png_bytes.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

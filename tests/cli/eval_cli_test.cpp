@@ -7,10 +7,10 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "../data/dataset_test_folders.hpp"
-#include "cli_support.hpp"
+#include "tests/data/dataset_test_folders.hpp"
+#include "tests/cli_support.hpp"
 #include "splat/data/image_io.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

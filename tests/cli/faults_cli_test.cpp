@@ -8,9 +8,9 @@
 #include <random>
 #include <string>
 
-#include "cli_support.hpp"
+#include "tests/cli_support.hpp"
 #include "splat/gaussians/ply_io.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

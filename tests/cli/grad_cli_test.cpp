@@ -6,8 +6,8 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
-#include "cli_support.hpp"
-#include "test_support.hpp"
+#include "tests/cli_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

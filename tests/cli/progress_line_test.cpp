@@ -1,6 +1,6 @@
 // The progress line shows the iteration out of its limit only while that limit can end the
 // run, and the share done of whichever limit is nearer.
-#include "progress_reporter.hpp"
+#include "apps/common/progress_reporter.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,9 +2,9 @@
 // (--bg composites it first), and a clear error for a missing counterpart.
 #include <gtest/gtest.h>
 
-#include "cli_support.hpp"
+#include "tests/cli_support.hpp"
 #include "splat/data/image_io.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

@@ -9,7 +9,7 @@
 #include <sys/wait.h>
 
 #include "splat/data/image_io.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

@@ -2,9 +2,9 @@
 // exits 0 and writes the whole dataset.
 #include <gtest/gtest.h>
 
-#include "cli_support.hpp"
-#include "scenes/scene_test_files.hpp"
-#include "test_support.hpp"
+#include "tests/cli_support.hpp"
+#include "tests/raytrace/scene_test_files.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

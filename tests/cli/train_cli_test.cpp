@@ -9,10 +9,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli_support.hpp"
+#include "tests/cli_support.hpp"
 #include "splat/data/transforms_json.hpp"
 #include "splat/gaussians/ply_io.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

@@ -5,11 +5,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli_support.hpp"
+#include "tests/cli_support.hpp"
 #include "splat/data/image_io.hpp"
 #include "splat/eval/metrics.hpp"
 #include "splat/nerf/nerf_file.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

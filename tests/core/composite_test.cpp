@@ -2,8 +2,8 @@
 // differences in double.
 #include <gtest/gtest.h>
 
-#include "gradient_check.hpp"
-#include "splat/composite.hpp"
+#include "tests/gradient_check.hpp"
+#include "splat/composite/composite.hpp"
 
 namespace splat {
 namespace {

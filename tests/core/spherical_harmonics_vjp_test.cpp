@@ -1,7 +1,7 @@
 // The SH VJP (coefficients and direction) against central finite differences in double.
 #include <gtest/gtest.h>
 
-#include "gradient_check.hpp"
+#include "tests/gradient_check.hpp"
 #include "splat/core/spherical_harmonics.hpp"
 
 namespace splat {

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "colmap_test_writer.hpp"
+#include "tests/data/colmap_test_writer.hpp"
 #include "splat/core/error.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

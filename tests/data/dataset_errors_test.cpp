@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "dataset_test_folders.hpp"
+#include "tests/data/dataset_test_folders.hpp"
 #include "splat/core/error.hpp"
 
 namespace splat {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "dataset_test_folders.hpp"
+#include "tests/data/dataset_test_folders.hpp"
 #include "splat/data/undistort.hpp"
 
 namespace splat {

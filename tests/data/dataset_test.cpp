@@ -10,7 +10,7 @@
 #include <string>
 
 #include "splat/data/image_io.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

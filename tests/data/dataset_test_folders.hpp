@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <string>
 
-#include "colmap_test_writer.hpp"
+#include "tests/data/colmap_test_writer.hpp"
 #include "splat/core/image.hpp"
 #include "splat/data/image_io.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat::test {
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "splat/core/error.hpp"
-#include "cli_support.hpp"
-#include "test_support.hpp"
+#include "tests/cli_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

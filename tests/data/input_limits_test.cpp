@@ -10,9 +10,9 @@
 #include "splat/core/error.hpp"
 #include "splat/data/image_io.hpp"
 #include "splat/data/transforms_json.hpp"
-#include "cli_support.hpp"
-#include "data/png_bytes.hpp"
-#include "test_support.hpp"
+#include "tests/cli_support.hpp"
+#include "tests/data/png_bytes.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

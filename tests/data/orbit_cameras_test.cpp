@@ -5,7 +5,7 @@
 #include "splat/data/transforms_json.hpp"
 #include "splat/gaussians/demo_model.hpp"
 #include "splat/raster/rasterizer.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

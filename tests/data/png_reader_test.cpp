@@ -9,8 +9,8 @@
 #include "splat/core/error.hpp"
 #include "splat/data/image_io.hpp"
 #include "splat/data/png_reader.hpp"
-#include "data/png_bytes.hpp"
-#include "test_support.hpp"
+#include "tests/data/png_bytes.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

@@ -13,7 +13,7 @@
 
 #include "splat/core/error.hpp"
 #include "splat/data/image_io.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

@@ -10,7 +10,7 @@
 #include <random>
 #include <vector>
 
-#include "gradient_check.hpp"
+#include "tests/gradient_check.hpp"
 #include "splat/core/error.hpp"
 #include "splat/nerf/nerf_mlp.hpp"
 #include "splat/nerf/positional_encoding.hpp"

@@ -10,7 +10,7 @@
 #include "splat/core/error.hpp"
 #include "splat/nerf/nerf_file.hpp"
 #include "splat/nerf/nerf_renderer.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "gradient_check.hpp"
+#include "tests/gradient_check.hpp"
 #include "splat/nerf/positional_encoding.hpp"
 
 namespace splat {

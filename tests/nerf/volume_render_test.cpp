@@ -8,7 +8,7 @@
 #include <tbb/global_control.h>
 #include <vector>
 
-#include "gradient_check.hpp"
+#include "tests/gradient_check.hpp"
 #include "splat/core/error.hpp"
 #include "splat/nerf/ray_composite.hpp"
 #include "splat/nerf/volume_render.hpp"

@@ -9,7 +9,7 @@
 
 #include "splat/core/error.hpp"
 #include "splat/optim/lr_schedule.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

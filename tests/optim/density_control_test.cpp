@@ -10,7 +10,7 @@
 
 #include "splat/core/error.hpp"
 #include "splat/raster/projection_math.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

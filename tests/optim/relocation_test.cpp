@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "splat/core/error.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

@@ -10,7 +10,7 @@
 #include "splat/data/transforms_json.hpp"
 #include "splat/gaussians/ply_io.hpp"
 #include "splat/raster/rasterizer.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

@@ -6,12 +6,12 @@
 #include <cmath>
 #include <numeric>
 
-#include "gradient_check.hpp"
-#include "splat/composite.hpp"
+#include "tests/gradient_check.hpp"
+#include "splat/composite/composite.hpp"
 #include "splat/core/spherical_harmonics.hpp"
 #include "splat/raster/projection_math.hpp"
 #include "splat/raster/rasterizer.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

@@ -16,7 +16,7 @@
 #include "splat/raster/pixel_projection.hpp"
 #include "splat/raster/project.hpp"
 #include "splat/raster/projection_math.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

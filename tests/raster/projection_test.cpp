@@ -7,7 +7,7 @@
 #include "splat/raster/pixel_projection.hpp"
 #include "splat/raster/project.hpp"
 #include "splat/raster/projection_math.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 // The dilation and clamp constants are floats, as in the reference rasterizer.
 constexpr double kDilation = double(splat::kCovarianceDilation);

@@ -1,7 +1,7 @@
 // Every projection stage's VJP against central finite differences in double.
 #include <gtest/gtest.h>
 
-#include "gradient_check.hpp"
+#include "tests/gradient_check.hpp"
 #include "splat/raster/projection_math.hpp"
 
 namespace splat {

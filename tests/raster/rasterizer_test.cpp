@@ -6,7 +6,7 @@
 #include <tbb/global_control.h>
 
 #include "splat/raster/rasterizer.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

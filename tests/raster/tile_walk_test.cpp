@@ -6,7 +6,7 @@
 
 #include "splat/raster/rasterizer.hpp"
 #include "splat/raster/tile_walk.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

@@ -12,7 +12,7 @@
 #include "splat/core/error.hpp"
 #include "splat/data/orbit_cameras.hpp"
 #include "splat/gaussians/initialization.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "splat/core/camera_rig.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

@@ -13,7 +13,7 @@
 
 #include "splat/core/frame_change.hpp"
 #include "splat/raster/projection_math.hpp"
-#include "test_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace splat {
 namespace {

@@ -6,16 +6,12 @@
 #include <string>
 #include <vector>
 
-#include "training_loop.hpp"
+#include "splat/train/training_loop.hpp"
 
 namespace splat {
 namespace {
 
-using cli::BudgetClock;
-using cli::LoopState;
-using cli::StopReason;
-
-class FakeTrainer final : public cli::TrainerAdapter {
+class FakeTrainer final : public TrainerAdapter {
  public:
   explicit FakeTrainer(double& clock) : clock_(clock) {}
   double step_seconds = 1, evaluate_seconds = 10;
@@ -49,7 +45,7 @@ class FakeTrainer final : public cli::TrainerAdapter {
   }
 
   std::string method() const override { return "fake"; }
-  cli::RunSchedule schedule() const override { return {}; }
+  RunSchedule schedule() const override { return {}; }
   std::size_t num_gaussians() const override { return 0; }
   std::size_t num_params() const override { return 0; }
   std::string model_size() const override { return ""; }
@@ -71,7 +67,7 @@ struct Score {
   double train_seconds, evaluate_seconds;
 };
 
-class RecordingObserver final : public cli::TrainingObserver {
+class RecordingObserver final : public TrainingObserver {
  public:
   std::vector<LoopState> steps;
   std::vector<Score> scores;
@@ -96,20 +92,20 @@ class TrainingLoop : public ::testing::Test {
     options.clock = [this] { return clock; };
     options.score_views = &views;
   }
-  cli::TrainingLoopResult run() { return cli::run_training_loop(trainer, options, observer); }
+  TrainingLoopResult run() { return run_training_loop(trainer, options, observer); }
 
   double clock = 1000;  // any origin
   std::vector<DatasetView> views;
   FakeTrainer trainer{clock};
   RecordingObserver observer;
-  cli::TrainingLoopOptions options;
+  TrainingLoopOptions options;
 };
 
 TEST_F(TrainingLoop, StopsAtTheIterationLimit) {
   options.iterations = 5;
   const auto result = run();
   EXPECT_EQ(result.stopped_by, StopReason::kIterations);
-  EXPECT_STREQ(cli::stop_reason_name(result.stopped_by), "iterations");
+  EXPECT_STREQ(stop_reason_name(result.stopped_by), "iterations");
   EXPECT_EQ(trainer.iteration(), 5);
   ASSERT_EQ(observer.steps.size(), 5u);
   EXPECT_EQ(observer.steps.back().iteration, 5);
@@ -136,7 +132,7 @@ TEST_F(TrainingLoop, TellsTheTrainerHowMuchOfItsBudgetIsSpent) {
   FakeTrainer unbudgeted(clock);
   options.max_seconds = 0;
   options.iterations = 3;
-  cli::run_training_loop(unbudgeted, options, observer);
+  run_training_loop(unbudgeted, options, observer);
   EXPECT_TRUE(unbudgeted.budget_fractions.empty()) << "no budget, nothing to follow";
 }
 
@@ -156,7 +152,7 @@ TEST_F(TrainingLoop, WallClockBudgetCountsScoringTrainingClockBudgetDoesNot) {
   FakeTrainer fresh(clock);
   RecordingObserver observer2;
   options.budget_clock = BudgetClock::kTraining;
-  result = cli::run_training_loop(fresh, options, observer2);
+  result = run_training_loop(fresh, options, observer2);
   EXPECT_EQ(result.stopped_by, StopReason::kTime);
   EXPECT_EQ(fresh.iteration(), 15);
   EXPECT_DOUBLE_EQ(result.train_seconds, 15.0);

@@ -1,7 +1,7 @@
 // Reduced resolution while moving, full when still, and a NeRF refining level by level.
 #include <gtest/gtest.h>
 
-#include "resolution_policy.hpp"
+#include "apps/splat-viewer/resolution_policy.hpp"
 
 namespace splat::viewer {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <glm/gtc/constants.hpp>
 
-#include "view_controller.hpp"
+#include "apps/splat-viewer/view_controller.hpp"
 
 namespace splat::viewer {
 namespace {

@@ -1,0 +1,176 @@
+// splat-eval --data DIR --out DIR [--methods LIST] [--max-seconds S]
+//            [--stability | --sweep-gaussians N,N,...] [--threads N] [--eval-every-seconds T] ...
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+
+#include "apps/common/arg_parser.hpp"
+#include "apps/common/run_main.hpp"
+#include "splat/train/config_file.hpp"
+#include "apps/splat-eval/eval_command.hpp"
+#include "apps/splat-eval/eval_methods.hpp"  // read_splat_settings
+#include "splat/core/error.hpp"
+
+namespace {
+
+constexpr const char* kUsage = R"(usage: splat-eval --data DIR --out DIR [options]
+
+Trains each method in turn on one dataset, each for the same budget of training time (wall
+clock minus scoring, which is reported) and with the same threads, scoring the test views at
+regular points of training time. Then renders the test views with every final model, timing
+each render. The methods (--methods, in that order; default all three):
+  splat                 Gaussian splatting with the compact density strategy
+  splat-official        Gaussian splatting with the official 3DGS density control
+  nerf                  the NeRF baseline
+Writes into --out:
+  results.json          per method: method, strategy (splat methods), history [{seconds,
+                        iteration, test_psnr, test_ssim, num_gaussians, model_bytes}], final
+                        {psnr, ssim}, num_gaussians (splat methods), num_params, model_bytes,
+                        train_seconds, render_ms_per_view_median, model_file; plus the
+                        dataset, budget and threads
+  <method>/model.ply or model.nerf, <method>/test/<view>.png: one folder per method
+  grids/<view>.png      ground truth | each method | each method's error; an error map is
+                        grey min(1, 4 * mean over RGB of |render - truth|)
+  charts/*.{png,svg}    drawn by gnuplot, a curve per method: PSNR and SSIM over training
+                        time, PSNR against model bytes and against Gaussians, render time
+                        against PSNR (and the runs below)
+  report.html           the tables, charts and grids on one offline page
+
+With --stability, instead: the methods (default splat and nerf) under each condition (all
+training views; only 8, 16, 32 of them; training poses turned 0.25/1/3 degrees and moved
+0.25/1/3 % of the scene extent; random initialisation when the data has a point cloud; and,
+for the splat methods only, all views and each pose noise level again with --refine-poses,
+whose test views are carried into the model's frame by the similarity the training poses
+moved by and aligned to their photographs with the model fixed before they are scored),
+each trained S seconds and scored once, into stability.json (PSNR, SSIM, time, model size
+and a verdict per run: diverged, collapsed = no better than the background alone + 1 dB,
+failed = below the absolute floor, the higher of the background alone + 3 dB and 20 dB
+(whatever the baseline), degraded = over 3 dB below the method's all-views run, else ok; for a refined run also its
+training cameras' error against the true poses, before and after, once a similarity is
+fitted) and stability/<condition>/<method>/ (a refined run's training_cameras.json there).
+
+With --sweep-gaussians N,N,..., instead: one splat method (splat, i.e. compact, unless
+--methods splat-official) under each Gaussian budget for S seconds, into sweep.json (PSNR,
+Gaussians, bytes, render time; the smallest model within 0.5 dB of the best is marked) and
+sweep/<N>/.
+
+Each run redraws the charts and report.html from every result file in --out, so the three
+can share one folder and one report. --report (with --out only) just redraws them.
+
+  --data DIR                  Blender/NeRF-synthetic or COLMAP folder (as splat-train)
+  --out DIR                   output folder (created if missing)
+  --methods LIST              comma-separated methods to run, from splat, splat-official, nerf
+  --max-seconds S             training budget per run in seconds (default 600)
+  --stability                 run the stability conditions (see above)
+  --stability-views N,N,...   training views kept in the fewer-views conditions (default 8,16,32)
+  --stability-conditions L    the kinds of condition to run, from baseline, views, pose-noise,
+                              refinement, random-init (default all)
+  --pose-noise D,D,...        pose noise levels: D degrees and D % of the scene extent
+                              (default 0.25,1,3)
+  --sweep-gaussians N,N,...   run the Gaussian budget sweep with these budgets
+  --eval-every-seconds T      score the test views every T seconds of training (default S/10)
+  --threads N                 worker threads for every method (default: all cores)
+  --bg white|black            background the RGBA images are composited onto (default white)
+  --downscale K               train and evaluate at 1/K of the image size (default 1)
+  --splat-config FILE         JSON settings for both splat methods (as splat-train --config),
+                              applied over each one's strategy preset; a "strategy" key in it
+                              is ignored (with a warning): the method names the strategy
+  --nerf-config FILE          JSON settings for the NeRF trainer (as splat-train --config)
+  --report                    only redraw the charts and report.html in --out
+  --quiet                     no progress output
+)";
+
+// "a,b,,c" → {"a", "b", "", "c"}: the words between commas, empty ones included.
+std::vector<std::string> comma_separated(const std::string& text) {
+  std::vector<std::string> words;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t end = std::min(text.find(',', start), text.size());
+    words.push_back(text.substr(start, end - start));
+    start = end + 1;
+  }
+  return words;
+}
+
+// "8,16,32": each a whole number >= 1.
+template <class Integer>
+std::vector<Integer> positive_list(const std::string& text, const std::string& option) {
+  std::vector<Integer> values;
+  for (const std::string& word : comma_separated(text)) {
+    char* rest = nullptr;
+    const long long value = std::strtoll(word.c_str(), &rest, 10);
+    if (word.empty() || *rest != '\0' || value < 1 || value > 1000000000)
+      throw splat::ArgumentError(option + " expects whole numbers >= 1 separated by commas, got '" + text + "'");
+    values.push_back(Integer(value));
+  }
+  return values;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return splat::cli::run_main([&] {
+    splat::cli::ArgParser args(argc, argv,
+                               {"data", "out", "methods", "max-seconds", "eval-every-seconds", "threads",
+                                "bg", "downscale", "splat-config", "nerf-config", "sweep-gaussians",
+                                "stability-views", "stability-conditions", "pose-noise"},
+                               {"help", "quiet", "stability", "report"});
+    if (args.has("help")) {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+    args.expect_no_positionals();
+    if (args.has("report")) return splat::cli::redraw_report(args.required("out"), args.has("quiet"));
+    splat::cli::EvalCommandOptions options;
+    options.data = args.required("data");
+    options.out = args.required("out");
+    if (auto list = args.value("methods")) options.methods = comma_separated(*list);  // checked by the run
+    if (auto file = args.value("splat-config")) options.splat_settings = splat::cli::read_splat_settings(*file);
+    if (auto file = args.value("nerf-config")) splat::read_config_file(*file, options.nerf_config);
+    if (auto s = args.number("max-seconds")) {
+      if (*s <= 0) throw splat::ArgumentError("--max-seconds must be > 0");
+      options.max_seconds = *s;
+    }
+    if (auto t = args.number("eval-every-seconds")) {
+      if (*t <= 0) throw splat::ArgumentError("--eval-every-seconds must be > 0");
+      options.eval_every = *t;
+    }
+    if (auto n = args.positive_integer("threads")) options.threads = *n;
+    if (auto k = args.positive_integer("downscale")) options.dataset.downscale = *k;
+    const std::string bg = args.value("bg").value_or("white");
+    if (bg != "white" && bg != "black") throw splat::ArgumentError("--bg must be white or black");
+    for (float& c : options.dataset.background) c = bg == "white" ? 1.0f : 0.0f;  // and the trainers'
+    options.quiet = args.has("quiet");
+    if (args.has("stability") && args.value("sweep-gaussians"))
+      throw splat::ArgumentError("--stability and --sweep-gaussians are separate runs; give one");
+    if (args.has("stability")) options.mode = splat::cli::EvalMode::kStability;
+    if (auto list = args.value("stability-views")) options.stability_views = positive_list<int>(*list, "--stability-views");
+    if (auto list = args.value("stability-conditions")) {
+      options.stability_kinds = comma_separated(*list);
+      for (const std::string& kind : options.stability_kinds)
+        if (std::find(std::begin(splat::cli::kStabilityKinds), std::end(splat::cli::kStabilityKinds), kind) ==
+            std::end(splat::cli::kStabilityKinds))
+          throw splat::ArgumentError("--stability-conditions: unknown kind '" + kind +
+                                     "' (baseline, views, pose-noise, refinement, random-init)");
+    }
+    if (auto list = args.value("pose-noise")) {
+      options.pose_noise_levels.clear();
+      for (const std::string& word : comma_separated(*list)) {
+        char* rest = nullptr;
+        const double degrees = std::strtod(word.c_str(), &rest);
+        if (word.empty() || *rest != '\0' || !(degrees > 0 && degrees <= 90))
+          throw splat::ArgumentError("--pose-noise expects degrees in (0, 90] separated by commas, got '" + *list + "'");
+        options.pose_noise_levels.push_back({degrees, degrees / 100.0});
+      }
+    }
+    if ((args.value("stability-conditions") || args.value("pose-noise") || args.value("stability-views")) &&
+        !args.has("stability"))
+      throw splat::ArgumentError("--stability-conditions, --pose-noise and --stability-views need --stability");
+    if (auto list = args.value("sweep-gaussians")) {
+      options.mode = splat::cli::EvalMode::kGaussianSweep;
+      options.sweep_gaussians = positive_list<std::size_t>(*list, "--sweep-gaussians");
+    }
+    return splat::cli::run_eval_command(options);
+  });
+}

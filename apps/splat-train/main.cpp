@@ -1,0 +1,163 @@
+// splat-train --data DIR --out DIR [--method splat|nerf] [--iters N] [--max-seconds S]
+//             [--bg white|black] [--seed N] [--threads N] [--downscale K] ...
+#include <cstdio>
+#include <exception>
+#include <memory>
+#include <string>
+
+#include "apps/common/arg_parser.hpp"
+#include "apps/common/run_main.hpp"
+#include "splat/train/config_file.hpp"
+#include "apps/splat-train/mpi_process_group.hpp"
+#include "splat/core/error.hpp"
+#include "apps/splat-train/train_command.hpp"
+
+namespace {
+
+constexpr const char* kUsage = R"(usage: splat-train --data DIR --out DIR [options]
+
+Trains 3D Gaussian splats on a Blender/NeRF-synthetic or COLMAP dataset on the CPU, with the
+official 3DGS optimisation (L1 + SSIM loss, Adam, adaptive density control). Writes
+DIR/model.ply (standard 3DGS PLY), DIR/metrics.json (history and final test metrics),
+DIR/test/<view>.png, DIR/config.json and DIR/checkpoint.ckpt.
+
+  --data DIR            Blender folder (transforms_train.json, transforms_test|val.json)
+                        or COLMAP folder (sparse/0, images/), detected automatically
+  --out DIR             output folder (created if missing)
+  --method splat|nerf   splat (default); nerf is the MLP NeRF baseline (writes model.nerf)
+  --strategy compact|official
+                        density control of the splats: compact (default) grows the model
+                        only while it pays and prunes what contributes nothing; official
+                        is the official 3DGS recipe, bit for bit
+  --iters N             iterations (default 50000 compact, 30000 official, 20000 nerf;
+                        with --max-seconds the NeRF trains until the time is up)
+  --max-seconds S       stop after S seconds of wall time (whichever limit comes first)
+  --bg white|black      background the RGBA images are composited onto (default white)
+  --seed N              random seed (default 0); results do not depend on --threads
+  --threads N           worker threads (default: all cores)
+  --downscale K         train and evaluate at 1/K of the image size (default 1)
+  --max-gaussians N     Gaussian budget: densification never exceeds it (default: none)
+  --batch B             views per optimiser step, the loss their mean (default 1); iterations
+                        still count views, so --iters must be a multiple of B
+  --refine-poses        optimise a correction of every training view's pose with the scene
+                        (for poses with some error, as estimated ones have); the test views
+                        are then aligned to their photographs with the model fixed before
+                        they are scored (experimental: off by default)
+  --exposure-compensation
+                        give every training view its own affine colour map (exposure and
+                        white balance), optimised with the scene; test views use none
+                        (experimental: off by default)
+  --test-every N        evaluate the test views every N iterations (default 1000 splat,
+                        2000 nerf; 0 = end only)
+  --checkpoint-every N  write DIR/checkpoint.ckpt every N iterations (default 5000; 0 = off)
+  --resume PATH         continue from a checkpoint file or a folder holding checkpoint.ckpt
+  --config FILE         JSON with any settings of config.json (applied before the options)
+  --quiet               no progress output
+Ctrl-C saves a checkpoint and a valid model.ply, then exits with status 130.
+)";
+
+// The options both methods share, over the defaults and the --config file. Both config
+// structs name these fields alike.
+template <class Config>
+void apply_options(const splat::cli::ArgParser& args, Config& config,
+                   splat::cli::TrainCommandOptions& options) {
+  if (auto file = args.value("config")) splat::read_config_file(*file, config);
+  if (auto n = args.positive_integer("iters")) config.iterations = *n;
+  if (auto s = args.number("max-seconds")) {
+    if (*s <= 0) throw splat::ArgumentError("--max-seconds must be > 0");
+    config.max_seconds = *s;
+  }
+  const std::string bg = args.value("bg").value_or("white");
+  if (bg != "white" && bg != "black") throw splat::ArgumentError("--bg must be white or black");
+  for (int c = 0; c < 3; ++c) config.background[c] = options.dataset.background[c] = bg == "white" ? 1.0f : 0.0f;
+  if (auto seed = args.integer("seed")) {
+    if (*seed < 0) throw splat::ArgumentError("--seed must be >= 0");
+    config.seed = unsigned(*seed);
+  }
+  if (auto n = args.integer("test-every")) {
+    if (*n < 0) throw splat::ArgumentError("--test-every must be >= 0");
+    config.test_interval = *n;
+  }
+  if (auto n = args.integer("checkpoint-every")) {
+    if (*n < 0) throw splat::ArgumentError("--checkpoint-every must be >= 0");
+    config.checkpoint_interval = *n;
+  }
+}
+
+// splat-train's work in this process (alone, or one rank of a data-parallel run).
+int train_main(int argc, char** argv, splat::ProcessGroup* ranks) {
+  splat::cli::ArgParser args(argc, argv,
+                             {"data", "out", "method", "strategy", "iters", "max-seconds", "bg", "seed",
+                              "threads", "downscale", "max-gaussians", "batch", "test-every",
+                              "checkpoint-every", "resume", "config"},
+                             {"help", "quiet", "refine-poses", "exposure-compensation"});
+  if (args.has("help")) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  args.expect_no_positionals();
+  splat::cli::TrainCommandOptions options;
+  options.data = args.required("data");
+  options.out = args.required("out");
+  options.method = args.value("method").value_or("splat");
+  if (options.method != "splat" && options.method != "nerf")
+    throw splat::ArgumentError("--method must be splat or nerf, got '" + options.method + "'");
+  if (options.method == "nerf") {
+    if (args.value("max-gaussians"))
+      throw splat::ArgumentError("--max-gaussians is a splat setting; --method nerf has no Gaussians");
+    if (args.value("strategy"))
+      throw splat::ArgumentError("--strategy is a splat setting; --method nerf has no density control");
+    if (args.has("refine-poses"))
+      throw splat::ArgumentError("--refine-poses is a splat setting; the NeRF does not refine poses");
+    if (args.has("exposure-compensation"))
+      throw splat::ArgumentError("--exposure-compensation is a splat setting; the NeRF has no exposure maps");
+    if (args.value("batch"))
+      throw splat::ArgumentError("--batch is a splat setting; the NeRF's steps are batches of rays (rays_per_batch)");
+    apply_options(args, options.nerf_config, options);
+    // A time budget is the NeRF's limit (its rate decays over it): its default iteration
+    // count, a limit for runs without one, does not cut it short.
+    if (args.value("max-seconds") && !args.value("iters") &&
+        options.nerf_config.iterations == splat::NerfTrainingConfig{}.iterations)
+      options.nerf_config.iterations = splat::kNerfIterationsUnderBudget;
+  } else {
+    const auto strategy = args.value("strategy");
+    options.config = splat::splat_training_preset(strategy.value_or("compact"));
+    apply_options(args, options.config, options);
+    if (strategy && options.config.strategy != *strategy)
+      throw splat::ArgumentError("--strategy " + *strategy + " conflicts with the config file's strategy '" +
+                                 options.config.strategy + "'");
+    if (auto n = args.positive_integer("max-gaussians")) options.config.density.max_gaussians = std::size_t(*n);
+    if (auto n = args.positive_integer("batch")) options.config.batch = *n;
+    if (args.has("refine-poses")) options.config.refine_poses = true;
+    if (args.has("exposure-compensation")) options.config.exposure_compensation = true;
+  }
+  if (auto n = args.positive_integer("threads")) options.threads = *n;
+  if (auto k = args.positive_integer("downscale")) options.dataset.downscale = *k;
+  if (auto r = args.value("resume")) options.resume = *r;
+  options.quiet = args.has("quiet") || (ranks && ranks->rank() != 0);  // rank 0 reports
+  options.group = ranks;
+  return splat::cli::run_train_command(options);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Under an MPI launcher, the ranks of a data-parallel run (mpi_process_group.hpp).
+  std::unique_ptr<splat::ProcessGroup> ranks;
+  const int status = splat::cli::run_main([&] {
+    ranks = splat::cli::join_launched_ranks(argc, argv);
+    if (ranks && ranks->size() > 1) {
+      try {
+        return train_main(argc, argv, ranks.get());
+      } catch (const std::exception& e) {  // name the rank that failed
+        throw splat::Error("rank " + std::to_string(ranks->rank()) + " of " + std::to_string(ranks->size()) +
+                           ": " + e.what());
+      }
+    }
+    return train_main(argc, argv, ranks.get());
+  });
+  // A rank that failed alone would leave the others waiting in the next exchange: end them
+  // all (a run that stopped everywhere at once, by an interrupt, returns normally).
+  if (ranks && ranks->size() > 1 && status != 0 && status != 130) splat::cli::abort_all_ranks(status);
+  return status;
+}

@@ -1,0 +1,95 @@
+// splat-viewer FILE [FILE2] [--cameras TRANSFORMS.json --view K] [--width W --height H]
+//              [--screenshot PNG] ...
+#include <cstdio>
+
+#include "apps/common/arg_parser.hpp"
+#include "apps/common/run_main.hpp"
+#include "apps/splat-viewer/panel_model.hpp"
+#include "splat/core/error.hpp"
+#include "apps/splat-viewer/viewer_app.hpp"
+
+namespace {
+
+constexpr const char* kUsage = R"(usage: splat-viewer FILE [FILE2] [options]
+
+Shows a 3DGS model (.ply) or a NeRF (.nerf) in a window, rendered by the CPU rasterizer
+(or the NeRF renderer) every frame; with two files, both side by side under one camera.
+
+Controls: left drag orbit, right/middle drag pan, scroll zoom, W A S D Q E fly, R reset,
+[ ] dataset views, + - SH degree, B background, P screenshot, H help, Esc quit.
+
+  --cameras FILE        transforms JSON: start at its view, step through them with [ ]
+  --view K              the view of --cameras to start at (default 0)
+  --width W --height H  size of one panel (default: the cameras' image size, else 800x600)
+  --bg white|black      background (default white)
+  --sh-degree N         SH degree to start with, 0..3 (default 3)
+  --fps F               frame rate reduced resolution aims to hold while moving (default 30)
+  --screenshot PNG      draw the view at full resolution, save the window to PNG, exit 0
+  --screenshot-overlay  with --screenshot: include the on-screen overlay
+  --show-help           start with the help overlay open
+  --bench-orbit S       orbit S seconds each at full resolution, at half resolution and
+                        adaptive (--fps); print the frame rates as JSON and exit
+)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return splat::cli::run_main([&] {
+    splat::cli::ArgParser args(argc, argv,
+                               {"cameras", "view", "width", "height", "bg", "sh-degree", "fps", "screenshot",
+                                "bench-orbit"},
+                               {"help", "screenshot-overlay", "show-help"});
+    if (args.has("help")) {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+    const auto& files = args.positionals();
+    if (files.empty() || files.size() > 2)
+      throw splat::ArgumentError("expected one or two model files, got " + std::to_string(args.positionals().size()) +
+                                 " (see --help)");
+    splat::viewer::ViewerOptions options;
+    options.files.assign(files.begin(), files.end());
+
+    const auto width = args.integer("width"), height = args.integer("height");
+    if (width.has_value() != height.has_value()) throw splat::ArgumentError("give both --width and --height, or neither");
+    if (width && (*width < 16 || *height < 16 || *width > 8192 || *height > 8192))
+      throw splat::ArgumentError("--width and --height must be between 16 and 8192");
+    if (auto file = args.value("cameras")) {
+      splat::TransformsOptions transforms;
+      if (width) transforms.width = *width, transforms.height = *height;
+      options.cameras = splat::load_transforms(*file, transforms);
+      options.view = args.integer("view").value_or(0);
+      if (options.view < 0 || options.view >= int(options.cameras.size()))
+        throw splat::ArgumentError("--view " + std::to_string(options.view) + " is out of range: " + *file + " has " +
+                                   std::to_string(options.cameras.size()) + " views");
+      options.width = options.cameras.front().camera.width;
+      options.height = options.cameras.front().camera.height;
+    } else if (args.value("view")) {
+      throw splat::ArgumentError("--view needs --cameras");
+    }
+    if (width) options.width = *width, options.height = *height;
+    const std::string bg = args.value("bg").value_or("white");
+    if (bg != "white" && bg != "black") throw splat::ArgumentError("--bg must be white or black");
+    for (float& c : options.settings.background) c = bg == "white" ? 1.0f : 0.0f;
+    if (auto n = args.integer("sh-degree")) {
+      if (*n < 0 || *n > 3) throw splat::ArgumentError("--sh-degree must be 0..3");
+      options.settings.sh_degree = *n;
+    }
+    if (auto f = args.number("fps")) {
+      if (!(*f >= 1 && *f <= 240)) throw splat::ArgumentError("--fps must be between 1 and 240");
+      options.target_fps = *f;
+    }
+    if (auto s = args.value("screenshot")) options.screenshot = *s;
+    options.screenshot_overlay = args.has("screenshot-overlay");
+    options.show_help = args.has("show-help");
+    if (auto s = args.number("bench-orbit")) {
+      if (!(*s > 0)) throw splat::ArgumentError("--bench-orbit must be > 0 seconds");
+      options.bench_seconds = *s;
+    }
+
+    // Every model loads before a window opens: bad input never leaves one behind.
+    std::vector<std::unique_ptr<splat::viewer::PanelModel>> models;
+    for (const auto& file : options.files) models.push_back(splat::viewer::load_panel_model(file));
+    return splat::viewer::run_viewer(options, std::move(models));
+  });
+}
