@@ -2,7 +2,8 @@
 // views, each first aligned to its photograph by N pose-only steps (the scoring protocol of
 // splat/train/pose_alignment.hpp) at a given start rate decaying to a given factor; N = 0
 // scores the recorded poses. Shows how much of a refined model's score the alignment's step
-// budget decides (bench/README.md, issue 15). Prints one JSON line. The rate and factor
+// budget decides (lego400, refined from 1° / 1 % pose errors: 24.48 dB at the recorded poses,
+// 33.33 after 30 steps, 33.85 after 200). Prints one JSON line. The rate and factor
 // default to training's (SplatTrainingConfig); the corrections turn about the camera centre.
 // With --training-cameras (the run's training_cameras.json) each test pose is first carried
 // into the model's frame by the similarity the training poses moved by, as the trainer does.

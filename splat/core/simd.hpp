@@ -5,7 +5,7 @@
 // instruction per kLanes pixels. Eight, not sixteen, even where the CPU has AVX-512: most
 // splats are a few pixels wide, and 8-pixel chunks evaluate 36 % fewer pixels than whole
 // 16-pixel rows (conformance model at 800×800: 7.7 against 12.2 million per frame), for an
-// 18 % faster blend on the AMD EPYC this project measures on (bench/README.md, issue 14).
+// 18 % faster blend on the AMD EPYC this project measures on.
 //
 // The helpers below have scalar overloads too, so templated code (the shared compositor)
 // runs unchanged on `float` + `bool` (one ray) or `f32v` + `i32v` (kLanes pixels).
