@@ -85,12 +85,6 @@ struct BasicNerfMlpContext {
   std::vector<Scalar> backward_scratch;   // [slots, cotangents of one chunk]
 };
 
-// One sample's outputs (forward_single).
-template <typename Scalar>
-struct NerfMlpSample {
-  Scalar sigma;
-  std::array<Scalar, 3> rgb;
-};
 
 template <typename Scalar>
 class BasicNerfMlp {
@@ -126,9 +120,6 @@ class BasicNerfMlp {
   // zeroes both. The context is scratch here (its saved activations are only read).
   void backward(Context& context, std::span<const Scalar> v_sigma, std::span<const Scalar> v_rgb,
                 std::span<Scalar> v_parameters, std::span<Scalar> v_positions = {}) const;
-
-  // Plain loops over one sample, no Eigen, no chunks: the oracle for forward in tests.
-  NerfMlpSample<Scalar> forward_single(const Scalar* position, const Scalar* direction) const;
 
  private:
   // Runs chunk(first, count) over [0, n) in fixed-size chunks, in parallel.

@@ -61,17 +61,6 @@ class Rasterizer {
   std::vector<Splat2DGrad> overlap_grads_;  // [M] scratch for the backward pass
 };
 
-// The test oracle: every pixel over every Gaussian in depth order, no tiles, no SIMD, libm
-// exp. It honours the reference rasterizer's tile-rectangle clipping (a Gaussian reaches a
-// pixel only if the pixel's tile lies in its radius rectangle), so it defines exactly what
-// the tiled renderer must produce. Slow: for small tests only.
-// `last_blended_id`, if given, receives per pixel the index of the last Gaussian blended
-// (kNoGaussian if none), to check the tiled renderer's contributor_count.
-constexpr std::uint32_t kNoGaussian = 0xffffffffu;
-void render_reference(const GaussianModel& model, const Camera& camera,
-                      const RenderSettings& settings, RenderResult& result,
-                      std::vector<std::uint32_t>* last_blended_id = nullptr);
-
 // Throws ArgumentError for an inconsistent model or a camera without pixels.
 void check_render_inputs(const GaussianModel& model, const Camera& camera);
 

@@ -14,6 +14,7 @@
 #include "splat/core/error.hpp"
 #include "splat/nerf/nerf_mlp.hpp"
 #include "splat/nerf/positional_encoding.hpp"
+#include "tests/nerf/nerf_mlp_reference.hpp"
 
 namespace splat {
 namespace {
@@ -159,8 +160,8 @@ void check_forward_against_reference(const NerfMlpConfig& config, double toleran
   random_inputs<Scalar>(600, 12, positions, directions);
   const std::vector<double> out = outputs(mlp, positions, directions);
   for (std::size_t i = 0; i < 600; ++i) {
-    const NerfMlpSample<Scalar> expected =
-        mlp.forward_single(&positions[3 * i], &directions[3 * i]);
+    const test::NerfMlpSample<Scalar> expected =
+        test::forward_single(mlp, &positions[3 * i], &directions[3 * i]);
     EXPECT_NEAR(out[i], double(expected.sigma), tolerance * (1 + std::abs(double(expected.sigma))))
         << "sigma " << i;
     for (int k = 0; k < 3; ++k)

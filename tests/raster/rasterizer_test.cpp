@@ -6,6 +6,7 @@
 #include <tbb/global_control.h>
 
 #include "splat/raster/rasterizer.hpp"
+#include "tests/raster/reference_rasterizer.hpp"
 #include "tests/test_support.hpp"
 
 namespace splat {
@@ -32,7 +33,7 @@ void expect_matches_reference(const Scene& scene, const RenderSettings& settings
   RenderResult tiled, reference;
   rasterizer.render(scene.model, scene.camera, settings, tiled);
   std::vector<std::uint32_t> reference_last;
-  render_reference(scene.model, scene.camera, settings, reference, &reference_last);
+  test::render_reference(scene.model, scene.camera, settings, reference, &reference_last);
 
   const int w = scene.camera.width;
   const TileGrid grid = tiled.frame.grid;
@@ -49,7 +50,7 @@ void expect_matches_reference(const Scene& scene, const RenderSettings& settings
     const std::size_t tile = std::size_t(y / 16) * grid.tiles_x + x / 16;
     const std::uint32_t count = tiled.contributor_count[p];
     const std::uint32_t last_id =
-        count == 0 ? kNoGaussian : bins.gaussian_ids[bins.tile_start[tile] + count - 1];
+        count == 0 ? test::kNoGaussian : bins.gaussian_ids[bins.tile_start[tile] + count - 1];
     ASSERT_EQ(last_id, reference_last[p]) << "pixel " << x << "," << y;
     blended_pixels += count > 0;
   }

@@ -3,11 +3,12 @@
 #include <cmath>
 #include <numeric>
 
+#include "tests/raster/reference_rasterizer.hpp"
+
 #include "splat/composite/composite.hpp"
-#include "splat/raster/rasterizer.hpp"
 #include "splat/raster/raster_constants.hpp"
 
-namespace splat {
+namespace splat::test {
 
 void render_reference(const GaussianModel& model, const Camera& camera,
                       const RenderSettings& settings, RenderResult& result,
@@ -62,4 +63,4 @@ void render_reference(const GaussianModel& model, const Camera& camera,
   }
 }
 
-}  // namespace splat
+}  // namespace splat::test
