@@ -61,7 +61,7 @@ NerfMlpSample<Scalar> BasicNerfMlp<Scalar>::forward_single(const Scalar* positio
   const std::vector<Scalar> f = affine(params, layers_[feature_layer()], h);
   const std::vector<Scalar> hidden = relu(affine(params, layers_[color_layer()], concat(f, gd)));
   const std::vector<Scalar> o = affine(params, layers_[rgb_layer()], hidden);
-  for (int k = 0; k < 3; ++k) out.rgb[k] = nerf_detail::sigmoid(o[k]);
+  for (int k = 0; k < 3; ++k) out.rgb[k] = sigmoid(o[k]);
   return out;
 }
 

@@ -1,9 +1,10 @@
 // SplatTrainer checkpoints: a small binary container.
 //   "SPLATCKP" | uint32 version | uint64 header bytes | header JSON | arrays
 // Each array: uint64 element count, then that many little-endian float32. The arrays are the
-// model's five parameter arrays, then Adam's first and second moments (five each), then the
-// density strategy's statistics (DensityStrategy::checkpoint_arrays: three for the official
-// strategy, in the order every version-1 checkpoint has them).
+// model's five parameter groups (kParameterGroups, in its order), then Adam's first and
+// second moments (five each), then the density strategy's statistics
+// (DensityStrategy::checkpoint_arrays: three for the official strategy, in the order every
+// version-1 checkpoint has them).
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -22,13 +23,6 @@ namespace {
 constexpr char kMagic[8] = {'S', 'P', 'L', 'A', 'T', 'C', 'K', 'P'};
 constexpr std::uint32_t kVersion = 1;
 constexpr std::uint64_t kMaxHeaderBytes = 1 << 24;
-
-std::vector<std::vector<float>*> model_arrays(GaussianModel& m) {
-  return {&m.means, &m.log_scales, &m.quats, &m.opacity_logits, &m.sh};
-}
-std::vector<const std::vector<float>*> model_arrays(const GaussianModel& m) {
-  return {&m.means, &m.log_scales, &m.quats, &m.opacity_logits, &m.sh};
-}
 
 void write_array(std::ostream& out, const std::vector<float>& a) {
   const std::uint64_t n = a.size();
@@ -74,7 +68,7 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
     out.write(reinterpret_cast<const char*>(&size), sizeof(size));
     out.write(text.data(), std::streamsize(size));
     for (const GaussianModel* g : {&model_, &adam_.first_moment, &adam_.second_moment})
-      for (const std::vector<float>* a : model_arrays(*g)) write_array(out, *a);
+      for (const ParameterGroup& group : kParameterGroups) write_array(out, group.of(*g));
     for (const std::vector<float>* a : strategy_->checkpoint_arrays()) write_array(out, *a);
     if (config_.refine_poses)  // the training views' pose corrections and their Adam moments
       for (const std::vector<float>& a :
@@ -142,7 +136,7 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
 
   const std::uint64_t remaining = file_size - std::uint64_t(in.tellg());
   for (GaussianModel* g : {&model_, &adam_.first_moment, &adam_.second_moment})
-    for (std::vector<float>* a : model_arrays(*g)) read_array(in, *a, remaining, file);
+    for (const ParameterGroup& group : kParameterGroups) read_array(in, group.of(*g), remaining, file);
   // The checkpoint's config named the strategy: its statistics follow the moments.
   strategy_ = make_density_strategy(config_, dataset_.train.size(), 0);
   for (std::vector<float>* a : strategy_->checkpoint_arrays()) read_array(in, *a, remaining, file);
@@ -167,9 +161,10 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
     adam_.first_moment.check_consistent();
     adam_.second_moment.check_consistent();
     // A non-finite value would make the first step's model, and the last good one, non-finite.
+    const auto finite = [](float v) { return std::isfinite(v); };
     for (const GaussianModel* g : {&model_, &adam_.first_moment, &adam_.second_moment})
-      for (const std::vector<float>* a : model_arrays(*g))
-        if (!std::all_of(a->begin(), a->end(), [](float v) { return std::isfinite(v); }))
+      for (const ParameterGroup& group : kParameterGroups)
+        if (!std::all_of(group.of(*g).begin(), group.of(*g).end(), finite))
           throw ArgumentError(std::string(g == &model_ ? "a model" : "an Adam moment") +
                               " value is not finite");
     if (adam_.first_moment.size() != model_.size() || adam_.second_moment.size() != model_.size())

@@ -144,8 +144,7 @@ GroupLearningRates SplatTrainer::learning_rates() const {
     // (Zhao et al. 2024, "On Scaling Up 3D Gaussian Splatting Training") multiplies Adam's
     // rates by √B (batch_lr_exponent 0.5) and raises the moments' decays to the B-th power
     // (adam_settings); the default here is B (exponent 1), which measured better.
-    const float scale = float(std::pow(double(config_.batch), double(config_.batch_lr_exponent)));
-    for (float* rate : {&lr.means, &lr.sh_dc, &lr.sh_rest, &lr.opacity, &lr.scales, &lr.rotations}) *rate *= scale;
+    lr.multiply(float(std::pow(double(config_.batch), double(config_.batch_lr_exponent))));
   }
   return lr;
 }
@@ -248,7 +247,7 @@ StepResult SplatTrainer::step() {
     } else {
       grads = &batch_gradient_.total();
     }
-    grads->scale(1.0f / float(views));
+    grads->multiply(1.0f / float(views));
   }
   last_step_gradient_ = grads;
   for (const ViewStatistics& stats : view_stats_) {
@@ -294,13 +293,11 @@ StepResult SplatTrainer::step() {
   strategy_->step_post_optimizer(iteration, state, lr.means);
   // The cheap groups every iteration; SH coefficients (most of the data) less often: a NaN
   // there shows in the next loss anyway.
-  const std::pair<const char*, const std::vector<float>*> groups[] = {
-      {"means", &model_.means}, {"log_scales", &model_.log_scales}, {"quaternions", &model_.quats},
-      {"opacity_logits", &model_.opacity_logits}};
-  for (const auto& [name, values] : groups)
-    if (!all_finite(*values)) throw TrainingDiverged(iteration, name);
+  for (const ParameterGroup& group : kParameterGroups)
+    if (group.id != ParameterGroupId::kSh && !all_finite(group.of(model_))) throw TrainingDiverged(iteration, group.name);
   if (step_reaches_multiple(iteration, views, kLastGoodInterval)) {
-    if (!all_finite(model_.sh)) throw TrainingDiverged(iteration, "sh_coefficients");
+    const ParameterGroup& sh = parameter_group(ParameterGroupId::kSh);
+    if (!all_finite(sh.of(model_))) throw TrainingDiverged(iteration, sh.name);
     last_good_model_ = model_;
   }
   result.timings.optimizer = ms_since(start);
@@ -320,14 +317,8 @@ void SplatTrainer::set_process_group(ProcessGroup* group) {
 }
 
 void SplatTrainer::check_parameters_finite() const {
-  const std::pair<const char*, const std::vector<float>*> groups[] = {
-      {"means", &model_.means},
-      {"log_scales", &model_.log_scales},
-      {"quaternions", &model_.quats},
-      {"opacity_logits", &model_.opacity_logits},
-      {"sh_coefficients", &model_.sh}};
-  for (const auto& [name, values] : groups)
-    if (!all_finite(*values)) throw TrainingDiverged(iteration_, name);
+  for (const ParameterGroup& group : kParameterGroups)
+    if (!all_finite(group.of(model_))) throw TrainingDiverged(iteration_, group.name);
 }
 
 Image SplatTrainer::render(const Camera& camera) const {
