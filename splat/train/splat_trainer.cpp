@@ -205,9 +205,9 @@ StepResult SplatTrainer::step() {
     auto start = Clock::now();
     rasterizer_.render(model_, camera, settings, render_);
     result.timings.forward += ms_since(start);
-    result.timings.project += rasterizer_.last_timings().project_ms;
-    result.timings.bin_sort += rasterizer_.last_timings().bin_sort_ms;
-    result.timings.blend += rasterizer_.last_timings().blend_ms;
+    result.timings.project += render_.timings.project_ms;
+    result.timings.bin_sort += render_.timings.bin_sort_ms;
+    result.timings.blend += render_.timings.blend_ms;
 
     start = Clock::now();
     const bool compensate = config_.exposure_compensation && iteration >= config_.exposure_from;
@@ -233,8 +233,8 @@ StepResult SplatTrainer::step() {
       stats.height = camera.height;
     }
     result.timings.backward += ms_since(start);
-    result.timings.blend_backward += rasterizer_.last_timings().blend_backward_ms;
-    result.timings.project_backward += rasterizer_.last_timings().project_backward_ms;
+    result.timings.blend_backward += grads_.timings.blend_backward_ms;
+    result.timings.project_backward += grads_.timings.project_backward_ms;
   }
 
   auto start = Clock::now();
