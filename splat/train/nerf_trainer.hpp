@@ -13,7 +13,9 @@
 #include "splat/nerf/nerf_model.hpp"
 #include "splat/nerf/nerf_renderer.hpp"
 #include "splat/optim/flat_adam.hpp"
-#include "splat/train/splat_trainer.hpp"  // StepResult, Evaluation, TrainingDiverged
+#include "splat/train/evaluation.hpp"
+#include "splat/train/step_result.hpp"
+#include "splat/train/training_config.hpp"
 
 namespace splat {
 
