@@ -15,11 +15,6 @@ namespace splat {
 
 namespace {
 
-using training::all_finite;
-using training::Clock;
-using training::kLastGoodInterval;
-using training::ms_since;
-
 Image clamped(const Image& image) {
   Image out = image;
   for (float& v : out.data) v = std::clamp(v, 0.0f, 1.0f);
@@ -27,6 +22,11 @@ Image clamped(const Image& image) {
 }
 
 }  // namespace
+
+using training::all_finite;
+using training::Clock;
+using training::kLastGoodInterval;
+using training::ms_since;
 
 SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& config)
     : dataset_(dataset),
