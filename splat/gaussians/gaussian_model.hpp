@@ -92,7 +92,7 @@ struct ParameterGroup {
   ParameterGroupId id;
   const char* name;                           // as errors name it ("non-finite quaternions")
   std::vector<float> GaussianModel::*values;  // model.*values is the array
-  // Floats per Gaussian: fixed + per_sh_coefficient × K (only the SH group grows with K).
+  // Floats per Gaussian: fixed_floats + floats_per_sh_coefficient × K (only SH grows with K).
   int fixed_floats, floats_per_sh_coefficient;
 
   std::size_t width(int sh_degree) const {
