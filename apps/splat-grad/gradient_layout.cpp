@@ -2,28 +2,30 @@
 
 #include <cmath>
 
+#include "splat/gaussians/ply_io.hpp"
+
 namespace splat::cli {
 
-int gradient_columns(int sh_degree) {
-  return 3 + 3 * sh_coefficient_count(sh_degree) + 1 + 3 + 4;
+namespace {
+
+// The PLY's columns less the normals: the gradient table's, in order.
+std::vector<PlyColumn> gradient_layout(int sh_degree) {
+  std::vector<PlyColumn> columns = official_ply_columns(sh_degree);
+  std::erase_if(columns, [](const PlyColumn& c) { return c.array == nullptr; });
+  return columns;
 }
+
+}  // namespace
+
+int gradient_columns(int sh_degree) { return int(gradient_layout(sh_degree).size()); }
 
 std::vector<float> gradient_table(const GaussianModel& grads) {
   const std::size_t n = grads.size();
-  const int k_count = grads.sh_coefficients();
-  const int columns = gradient_columns(grads.sh_degree);
-  std::vector<float> table(n * columns);
-  for (std::size_t i = 0; i < n; ++i) {
-    float* row = &table[i * columns];
-    int col = 0;
-    for (int a = 0; a < 3; ++a) row[col++] = grads.means[3 * i + a];
-    for (int c = 0; c < 3; ++c) row[col++] = grads.sh[(i * k_count) * 3 + c];
-    for (int c = 0; c < 3; ++c)
-      for (int k = 1; k < k_count; ++k) row[col++] = grads.sh[(i * k_count + k) * 3 + c];
-    row[col++] = grads.opacity_logits[i];
-    for (int a = 0; a < 3; ++a) row[col++] = grads.log_scales[3 * i + a];
-    for (int a = 0; a < 4; ++a) row[col++] = grads.quats[4 * i + a];
-  }
+  const std::vector<PlyColumn> layout = gradient_layout(grads.sh_degree);
+  std::vector<float> table(n * layout.size());
+  float* out = table.data();
+  for (std::size_t i = 0; i < n; ++i)
+    for (const PlyColumn& c : layout) *out++ = (grads.*c.array)[c.first + i * c.stride];
   return table;
 }
 

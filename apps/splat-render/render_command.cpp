@@ -111,7 +111,7 @@ int run_render_command(const RenderCommandOptions& options) {
       total_ms.push_back(
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
               .count());
-      const RenderTimings& t = rasterizer.last_timings();
+      const RenderTimings& t = result.timings;
       project_ms.push_back(t.project_ms);
       bin_sort_ms.push_back(t.bin_sort_ms);
       blend_ms.push_back(t.blend_ms);
@@ -119,7 +119,7 @@ int run_render_command(const RenderCommandOptions& options) {
     if (options.bench_repeats > 0) work += count_blend_work(result);
     if (options.bench_repeats == 0)
       std::printf("%s  %dx%d  %.1f ms\n", png.string().c_str(), frame.camera.width,
-                  frame.camera.height, rasterizer.last_timings().total_ms());
+                  frame.camera.height, result.timings.total_ms());
   }
   std::printf("rendered %zu frames of %zu Gaussians into %s\n", frames.size(), model.size(),
               options.out.string().c_str());

@@ -43,7 +43,7 @@ class SplatPanel : public PanelModel {
     settings.sh_degree = view.sh_degree;
     for (int c = 0; c < 3; ++c) settings.background[c] = view.background[c];
     rasterizer_.render(model_, camera, settings, result_);
-    frame.timings = rasterizer_.last_timings();
+    frame.timings = result_.timings;
     to_rgba8(result_.color, frame.rgba);
     frame.width = camera.width;
     frame.height = camera.height;

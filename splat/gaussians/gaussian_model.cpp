@@ -8,16 +8,11 @@
 namespace splat {
 namespace {
 
-// Calls f(array_of_a, array_of_b, floats_per_row) for every parameter array of two models
+// Calls f(array_of_a, array_of_b, floats_per_row) for every parameter group of two models
 // with the same layout, so each row operation is written once for all arrays.
 template <class ModelA, class ModelB, class F>
 void for_each_array_pair(ModelA& a, ModelB& b, F&& f) {
-  const std::size_t sh_width = std::size_t(a.sh_coefficients()) * 3;
-  f(a.means, b.means, std::size_t(3));
-  f(a.log_scales, b.log_scales, std::size_t(3));
-  f(a.quats, b.quats, std::size_t(4));
-  f(a.opacity_logits, b.opacity_logits, std::size_t(1));
-  f(a.sh, b.sh, sh_width);
+  for (const ParameterGroup& group : kParameterGroups) f(group.of(a), group.of(b), group.width(a.sh_degree));
 }
 
 template <class Model, class F>
@@ -35,11 +30,13 @@ void require_same_degree(const GaussianModel& a, const GaussianModel& b, const c
 }  // namespace
 
 void GaussianModel::resize(std::size_t n) {
-  means.resize(n * 3);
-  log_scales.resize(n * 3);
-  quats.resize(n * 4);
-  opacity_logits.resize(n);
-  sh.resize(n * sh_coefficients() * 3);
+  for_each_array(*this, [n](std::vector<float>& array, std::size_t width) { array.resize(n * width); });
+}
+
+std::size_t GaussianModel::floats_per_row() const {
+  std::size_t floats = 0;
+  for (const ParameterGroup& group : kParameterGroups) floats += group.width(sh_degree);
+  return floats;
 }
 
 void GaussianModel::check_consistent() const {
@@ -47,10 +44,10 @@ void GaussianModel::check_consistent() const {
     throw ArgumentError("GaussianModel: SH degree " + std::to_string(sh_degree) +
                         " is outside 0.." + std::to_string(kMaxShDegree));
   const std::size_t n = size();
-  if (means.size() != n * 3 || log_scales.size() != n * 3 || quats.size() != n * 4 ||
-      sh.size() != n * sh_coefficients() * 3)
-    throw ArgumentError("GaussianModel: parameter arrays disagree in length for " +
-                        std::to_string(n) + " Gaussians");
+  for (const ParameterGroup& group : kParameterGroups)
+    if (group.of(*this).size() != n * group.width(sh_degree))
+      throw ArgumentError("GaussianModel: parameter arrays disagree in length for " + std::to_string(n) +
+                          " Gaussians");
 }
 
 void GaussianModel::keep_rows(const std::vector<std::uint8_t>& keep) {
@@ -158,7 +155,7 @@ void GaussianModel::read_values(std::span<const float> in) {
   });
 }
 
-void GaussianModel::scale(float factor) {
+void GaussianModel::multiply(float factor) {
   for_each_array(*this, [factor](std::vector<float>& array, std::size_t) {
     for (float& v : array) v *= factor;
   });

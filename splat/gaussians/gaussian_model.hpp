@@ -1,12 +1,20 @@
 #pragma once
 // The Gaussian model as a structure of arrays. Parameters are stored raw, exactly as the
-// standard 3DGS PLY stores them; activations are applied on use (docs/DESIGN.md):
+// standard 3DGS PLY stores them; activations are applied on use (docs/DESIGN.md §3.2), through
+// the accessors below:
 //   scale = exp(log_scale), opacity = sigmoid(opacity_logit), rotation = normalize(quat),
 //   colour = SH(dir) + 0.5 clamped at 0.
+// kParameterGroups, after the model, is the one list of its arrays that everything iterating
+// "every parameter" goes through.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <span>
 #include <vector>
+
+#include "splat/core/activations.hpp"
+#include "splat/gaussians/covariance.hpp"
 
 namespace splat {
 
@@ -28,6 +36,18 @@ struct GaussianModel {
 
   std::size_t size() const { return opacity_logits.size(); }
   int sh_coefficients() const { return sh_coefficient_count(sh_degree); }
+
+  // Gaussian i's parameters as they act: its mean, its axes' scales exp(log_scale), its
+  // opacity sigmoid(logit), its quaternion as stored (w, x, y, z; not necessarily unit, which
+  // gradients need) and the rotation of the normalised quaternion.
+  Vec3<float> mean(std::size_t i) const { return {means[3 * i], means[3 * i + 1], means[3 * i + 2]}; }
+  Vec3<float> scale(std::size_t i) const {
+    return {std::exp(log_scales[3 * i]), std::exp(log_scales[3 * i + 1]), std::exp(log_scales[3 * i + 2])};
+  }
+  float opacity(std::size_t i) const { return sigmoid(opacity_logits[i]); }
+  Vec4<float> quat(std::size_t i) const { return {quats[4 * i], quats[4 * i + 1], quats[4 * i + 2], quats[4 * i + 3]}; }
+  Mat3<float> rotation(std::size_t i) const { return quat_to_rotmat(quat(i)); }
+
   // Resizes every array for n Gaussians at the current SH degree (new entries zero).
   void resize(std::size_t n);
   // Throws ArgumentError if the arrays disagree in length or the degree is out of range.
@@ -54,7 +74,7 @@ struct GaussianModel {
   // Element-wise this += other, for gradients (same degree and size; ArgumentError otherwise).
   void add(const GaussianModel& other);
   // Every value times `factor`.
-  void scale(float factor);
+  void multiply(float factor);
   // All values as one flat array (means, log-scales, quaternions, opacities, SH), to send a
   // gradient between processes: value_count() floats into `out`; read_values takes them back
   // into a model already sized alike. ArgumentError on a size mismatch.
@@ -62,7 +82,46 @@ struct GaussianModel {
   void write_values(std::span<float> out) const;
   void read_values(std::span<const float> in);
   // Floats per row across all arrays: 3 + 3 + 4 + 1 + 3·K (59 at degree 3).
-  std::size_t floats_per_row() const { return 11 + std::size_t(sh_coefficients()) * 3; }
+  std::size_t floats_per_row() const;
 };
+
+enum class ParameterGroupId { kMeans, kLogScales, kQuats, kOpacityLogits, kSh };
+
+// One parameter array of the model and its row width.
+struct ParameterGroup {
+  ParameterGroupId id;
+  const char* name;                           // as errors name it ("non-finite quaternions")
+  std::vector<float> GaussianModel::*values;  // model.*values is the array
+  // Floats per Gaussian: fixed_floats + floats_per_sh_coefficient × K (only SH grows with K).
+  int fixed_floats, floats_per_sh_coefficient;
+
+  std::size_t width(int sh_degree) const {
+    return std::size_t(fixed_floats + floats_per_sh_coefficient * sh_coefficient_count(sh_degree));
+  }
+  std::vector<float>& of(GaussianModel& model) const { return model.*values; }
+  const std::vector<float>& of(const GaussianModel& model) const { return model.*values; }
+};
+
+// The model's parameter groups, in the one order every consumer keeps: the row operations,
+// the flat layout of write_values (what ranks exchange), checkpoints, Adam and the divergence
+// check iterate this list, so a group added or renamed is added everywhere at once. (The PLY
+// file has its own column order, fixed by the format; ply_io.cpp maps its columns onto these
+// groups.)
+inline constexpr ParameterGroup kParameterGroups[] = {
+    {ParameterGroupId::kMeans, "means", &GaussianModel::means, 3, 0},
+    {ParameterGroupId::kLogScales, "log_scales", &GaussianModel::log_scales, 3, 0},
+    {ParameterGroupId::kQuats, "quaternions", &GaussianModel::quats, 4, 0},
+    {ParameterGroupId::kOpacityLogits, "opacity_logits", &GaussianModel::opacity_logits, 1, 0},
+    {ParameterGroupId::kSh, "sh_coefficients", &GaussianModel::sh, 0, 3},  // [K, 3] per row
+};
+
+static_assert([] {
+  for (int i = 0; i < int(std::size(kParameterGroups)); ++i)
+    if (int(kParameterGroups[i].id) != i) return false;
+  return true;
+}(), "kParameterGroups is in ParameterGroupId order");
+
+// The entry of kParameterGroups for `id`.
+constexpr const ParameterGroup& parameter_group(ParameterGroupId id) { return kParameterGroups[int(id)]; }
 
 }  // namespace splat

@@ -28,7 +28,7 @@ GaussianModel gaussians_at(const std::vector<float>& positions, int sh_degree) {
   const std::vector<float> distance2 =
       mean_squared_neighbour_distance(positions, kInitNeighbours);
   // In float, as the official trainer computes it on the GPU.
-  const float opacity_logit = std::log(kInitialOpacity / (1.0f - kInitialOpacity));
+  const float opacity_logit = logit(kInitialOpacity);
   for (std::size_t i = 0; i < n; ++i) {
     const float log_scale =
         std::log(std::sqrt(std::max(distance2[i], kMinNeighbourDistanceSquared)));

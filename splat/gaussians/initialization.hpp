@@ -21,7 +21,7 @@ constexpr float kRandomInitHalfExtent = 1.3f;
 //   SH band 0 = (colour − 0.5) / C0 (so the rendered colour is the point's), other bands 0;
 //   log_scale = log(sqrt(max(d̄², 1e-7))) on all three axes, where d̄² is the mean squared
 //     distance to the 3 nearest other points (exact, nearest_neighbors.hpp);
-//   quaternion (1, 0, 0, 0); opacity logit = inverse_sigmoid(0.1).
+//   quaternion (1, 0, 0, 0); opacity logit = logit(0.1).
 // Throws ArgumentError for an empty cloud, colours that do not match the positions, or a
 // degree outside 0..3.
 GaussianModel initialize_from_points(const PointCloud& points, int sh_degree);

@@ -25,41 +25,33 @@ constexpr std::size_t kFloatBytes = sizeof(float);
 constexpr int kColorChannels = 3;
 static_assert(sizeof(float) == sizeof(std::uint32_t));
 
-// One float property of the official layout and where it lives in the model: Gaussian i's
-// value is (model.*array)[first + i * stride]. The normals have no home (array == nullptr):
-// nothing uses them, the official writer stores zeros.
-struct Column {
-  std::string name;
-  std::vector<float> GaussianModel::*array = nullptr;
-  std::size_t first = 0;
-  std::size_t stride = 0;
-};
+}  // namespace
 
-// The properties of the official 3DGS PLY in file order for an SH degree. Both the writer
-// (which must reproduce this order) and the reader (which looks each one up by name) use it,
-// so the two cannot disagree on the f_rest permutation.
-std::vector<Column> official_columns(int sh_degree) {
+std::vector<PlyColumn> official_ply_columns(int sh_degree) {
   const std::size_t k_count = static_cast<std::size_t>(sh_coefficient_count(sh_degree));
-  const std::size_t sh_stride = k_count * kColorChannels;
-  std::vector<Column> columns;
+  std::vector<PlyColumn> columns;
+  // Value `first` of each row of group `id`.
+  const auto add = [&](std::string name, ParameterGroupId id, std::size_t first) {
+    const ParameterGroup& group = parameter_group(id);
+    columns.push_back({std::move(name), group.values, first, group.width(sh_degree)});
+  };
   const char* const axes[] = {"x", "y", "z"};
-  for (std::size_t a = 0; a < 3; ++a) columns.push_back({axes[a], &GaussianModel::means, a, 3});
+  for (std::size_t a = 0; a < 3; ++a) add(axes[a], ParameterGroupId::kMeans, a);
   for (const char* normal : {"nx", "ny", "nz"}) columns.push_back({normal, nullptr, 0, 0});
-  for (std::size_t c = 0; c < kColorChannels; ++c)
-    columns.push_back({"f_dc_" + std::to_string(c), &GaussianModel::sh, c, sh_stride});
+  for (std::size_t c = 0; c < kColorChannels; ++c) add("f_dc_" + std::to_string(c), ParameterGroupId::kSh, c);
   // The file is channel-major (all of red's higher bands, then green's, ...); the model keeps
   // RGB innermost, so f_rest index c * (K-1) + (k-1) is model coefficient k, channel c.
   for (std::size_t c = 0; c < kColorChannels; ++c)
     for (std::size_t k = 1; k < k_count; ++k)
-      columns.push_back({std::string(kRestPrefix) + std::to_string(c * (k_count - 1) + (k - 1)),
-                         &GaussianModel::sh, k * kColorChannels + c, sh_stride});
-  columns.push_back({"opacity", &GaussianModel::opacity_logits, 0, 1});
-  for (std::size_t a = 0; a < 3; ++a)
-    columns.push_back({"scale_" + std::to_string(a), &GaussianModel::log_scales, a, 3});
-  for (std::size_t a = 0; a < 4; ++a)
-    columns.push_back({"rot_" + std::to_string(a), &GaussianModel::quats, a, 4});
+      add(std::string(kRestPrefix) + std::to_string(c * (k_count - 1) + (k - 1)), ParameterGroupId::kSh,
+          k * kColorChannels + c);
+  add("opacity", ParameterGroupId::kOpacityLogits, 0);
+  for (std::size_t a = 0; a < 3; ++a) add("scale_" + std::to_string(a), ParameterGroupId::kLogScales, a);
+  for (std::size_t a = 0; a < 4; ++a) add("rot_" + std::to_string(a), ParameterGroupId::kQuats, a);
   return columns;
 }
+
+namespace {
 
 bool is_rest_property(std::string_view name) {
   if (!name.starts_with(kRestPrefix) || name.size() == kRestPrefix.size()) return false;
@@ -87,7 +79,7 @@ struct Target {
 struct VertexLayout {
   std::size_t element_index = 0;
   int sh_degree = 0;
-  std::vector<Column> columns;                 // required columns (normals dropped)
+  std::vector<PlyColumn> columns;                 // required columns (normals dropped)
   std::vector<const ply::Property*> sources;   // sources[j] is where columns[j] comes from
 };
 
@@ -115,7 +107,7 @@ VertexLayout resolve_vertex_layout(const ply::Header& header, const std::filesys
                                std::to_string(rest_count) +
                                " (expected 0, 9, 24 or 45 for SH degree 0 to 3)");
 
-  for (Column& column : official_columns(layout.sh_degree)) {
+  for (PlyColumn& column : official_ply_columns(layout.sh_degree)) {
     if (column.array == nullptr) continue;
     const ply::Property* p = vertex->find(column.name);
     if (p == nullptr)
@@ -140,7 +132,7 @@ std::vector<Target> bind_targets(const VertexLayout& layout, GaussianModel& mode
   std::vector<Target> targets;
   targets.reserve(layout.columns.size());
   for (std::size_t j = 0; j < layout.columns.size(); ++j) {
-    const Column& c = layout.columns[j];
+    const PlyColumn& c = layout.columns[j];
     // An empty model's arrays have no storage: offsetting their null pointer is undefined.
     std::vector<float>& array = model.*c.array;
     targets.push_back({layout.sources[j], array.empty() ? nullptr : array.data() + c.first, c.stride});
@@ -364,18 +356,18 @@ GaussianModel read_ply(const std::filesystem::path& file) {
 
 void write_ply(const GaussianModel& model, const std::filesystem::path& file) {
   model.check_consistent();
-  const std::vector<Column> columns = official_columns(model.sh_degree);
+  const std::vector<PlyColumn> columns = official_ply_columns(model.sh_degree);
   const std::size_t n = model.size();
 
   std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex " +
                        std::to_string(n) + "\n";
-  for (const Column& c : columns) header += "property float " + c.name + "\n";
+  for (const PlyColumn& c : columns) header += "property float " + c.name + "\n";
   header += "end_header\n";
 
   std::vector<unsigned char> payload(n * columns.size() * kFloatBytes);
   unsigned char* out = payload.data();
   for (std::size_t i = 0; i < n; ++i)
-    for (const Column& c : columns)
+    for (const PlyColumn& c : columns)
       append_little_endian(out, c.array ? (model.*c.array)[c.first + i * c.stride] : 0.0f);
 
   write_stream_atomically(file, [&](std::ostream& stream) {

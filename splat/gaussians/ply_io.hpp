@@ -4,11 +4,29 @@
 //   x y z nx ny nz f_dc_0..2 f_rest_0..M-1 opacity scale_0..2 rot_0..3
 // all `float`, f_rest channel-major (f_rest[c * (K-1) + (k-1)] for channel c, band index k),
 // M = 3 * ((degree + 1)^2 - 1) so the SH degree is inferred from M.
+#include <cstddef>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "splat/gaussians/gaussian_model.hpp"
 
 namespace splat {
+
+// One float property of the official layout and where it lives in the model: Gaussian i's
+// value is (model.*array)[first + i * stride], in one of the model's parameter groups. The
+// normals have no home (array == nullptr): nothing uses them, the official writer stores zeros.
+struct PlyColumn {
+  std::string name;
+  std::vector<float> GaussianModel::*array = nullptr;
+  std::size_t first = 0;
+  std::size_t stride = 0;
+};
+
+// The properties of the official 3DGS PLY in file order for an SH degree. The writer (which
+// must reproduce this order), the reader (which looks each one up by name) and splat-grad's
+// gradient table use it, so none can disagree on the f_rest permutation.
+std::vector<PlyColumn> official_ply_columns(int sh_degree);
 
 // Reads binary little-endian, binary big-endian or ASCII PLY. Extra properties are ignored,
 // properties may come in any order. Throws InputError naming the file on a missing file,

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "splat/core/activations.hpp"
 #include "splat/nerf/eigen_core.hpp"
 
 namespace splat::nerf_detail {
@@ -128,12 +129,7 @@ Scalar relu_vjp(Scalar z, Scalar v_out) {
   return z > Scalar(0) ? v_out : Scalar(0);
 }
 
-template <typename Scalar>
-Scalar sigmoid(Scalar z) {
-  return Scalar(1) / (Scalar(1) + std::exp(-z));
-}
-
-// s = sigmoid(z):  ds/dz = s(1 − s), from the stored output.
+// s = sigmoid(z) (splat/core/activations.hpp):  ds/dz = s(1 − s), from the stored output.
 template <typename Scalar>
 Scalar sigmoid_vjp_from_output(Scalar s, Scalar v_out) {
   return v_out * s * (Scalar(1) - s);

@@ -262,7 +262,7 @@ void BasicNerfMlp<Scalar>::forward_color_chunk(Context& ctx, std::size_t first, 
                                      Activation::kNone, c);
   Scalar* rgb_out = rgb + 3 * first;
   for (std::size_t k = 0; k < 3 * n; ++k) {
-    c.data()[k] = nerf_detail::sigmoid(c.data()[k]);
+    c.data()[k] = sigmoid(c.data()[k]);
     rgb_out[k] = c.data()[k];
   }
 }

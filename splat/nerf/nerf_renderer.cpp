@@ -35,9 +35,8 @@ void fill_inputs(const SceneSpace& space, std::span<const Ray> rays, const std::
 }  // namespace
 
 void NerfRenderer::place_coarse(const NerfModel& model, std::span<const Ray> rays, bool jitter,
-                                std::mt19937& rng) {
+                                std::mt19937& rng, Pass& pass) {
   const int n = model.settings.coarse_samples_for(/*evaluation=*/!jitter);
-  Pass& pass = coarse_;
   pass.offsets.assign(rays.size() + 1, 0);
   pass.t.clear();
   pass.delta.clear();
@@ -57,10 +56,8 @@ void NerfRenderer::place_coarse(const NerfModel& model, std::span<const Ray> ray
 }
 
 void NerfRenderer::place_fine(const NerfModel& model, std::span<const Ray> rays, bool jitter,
-                              std::mt19937& rng) {
+                              std::mt19937& rng, const Pass& coarse, Pass& pass) {
   const std::size_t n_fine = std::size_t(model.settings.fine_samples);
-  const Pass& coarse = coarse_;
-  Pass& pass = fine_;
   pass.offsets.assign(rays.size() + 1, 0);
   pass.t.clear();
   pass.delta.clear();
@@ -100,49 +97,61 @@ void NerfRenderer::evaluate(const NerfMlp& mlp, std::span<const Ray> rays, Pass&
 }
 
 void NerfRenderer::forward(const NerfModel& model, std::span<const Ray> rays,
-                           const float background[3], bool jitter, std::mt19937& rng) {
-  std::copy(background, background + 3, background_);
-  place_coarse(model, rays, jitter, rng);
-  evaluate(model.coarse, rays, coarse_, background);
-  place_fine(model, rays, jitter, rng);
-  evaluate(model.fine, rays, fine_, background);
+                           const float background[3], bool jitter, std::mt19937& rng,
+                           NerfForwardContext& context) {
+  std::copy(background, background + 3, context.background);
+  place_coarse(model, rays, jitter, rng, context.coarse);
+  evaluate(model.coarse, rays, context.coarse, background);
+  place_fine(model, rays, jitter, rng, context.coarse, context.fine);
+  evaluate(model.fine, rays, context.fine, background);
 }
 
 void NerfRenderer::backward_pass(const NerfMlp& mlp, Pass& pass, std::span<const float> v_color,
                                  const float background[3], std::span<float> v_params) {
   const std::size_t s = pass.t.size();
   if (s == 0) return;
-  pass.v_sigma.resize(s);
-  pass.v_rgb.resize(3 * s);
+  v_sigma_.resize(s);
+  v_rgb_.resize(3 * s);
   volume_render_backward(pass.batch(), pass.sigma, pass.rgb, background, pass.render, v_color,
-                         pass.v_sigma, pass.v_rgb);
-  mlp.backward(pass.mlp, pass.v_sigma, pass.v_rgb, v_params);
+                         v_sigma_, v_rgb_);
+  mlp.backward(pass.mlp, v_sigma_, v_rgb_, v_params);
 }
 
-void NerfRenderer::backward(const NerfModel& model, std::span<const float> v_coarse_color,
-                            std::span<const float> v_fine_color, std::span<float> v_coarse_params,
-                            std::span<float> v_fine_params) {
-  backward_pass(model.coarse, coarse_, v_coarse_color, background_, v_coarse_params);
-  backward_pass(model.fine, fine_, v_fine_color, background_, v_fine_params);
+void NerfRenderer::backward(const NerfModel& model, NerfForwardContext& context,
+                            std::span<const float> v_coarse_color, std::span<const float> v_fine_color,
+                            std::span<float> v_coarse_params, std::span<float> v_fine_params) {
+  backward_pass(model.coarse, context.coarse, v_coarse_color, context.background, v_coarse_params);
+  backward_pass(model.fine, context.fine, v_fine_color, context.background, v_fine_params);
+}
+
+Image NerfRenderer::render_image(const NerfModel& model, const Camera& camera, const float background[3],
+                                 NerfForwardContext& context) {
+  Image image;
+  render_image_into(model, camera, background, image, [] { return false; }, context);
+  return image;
 }
 
 Image NerfRenderer::render_image(const NerfModel& model, const Camera& camera,
                                  const float background[3]) {
-  Image image;
-  render_image(model, camera, background, image, [] { return false; });
-  return image;
+  return render_image(model, camera, background, image_context_);
 }
 
 bool NerfRenderer::render_image(const NerfModel& model, const Camera& camera, const float background[3],
                                 Image& image, const std::function<bool()>& cancelled) {
+  return render_image_into(model, camera, background, image, cancelled, image_context_);
+}
+
+bool NerfRenderer::render_image_into(const NerfModel& model, const Camera& camera, const float background[3],
+                                     Image& image, const std::function<bool()>& cancelled,
+                                     NerfForwardContext& context) {
   camera_rays(camera, image_rays_);
   image = Image(camera.width, camera.height, 3);
   std::mt19937 unused_rng(0);
   for (std::size_t first = 0; first < image_rays_.size(); first += kImageBatchRays) {
     if (cancelled()) return false;
     const std::size_t count = std::min(kImageBatchRays, image_rays_.size() - first);
-    forward(model, std::span<const Ray>(&image_rays_[first], count), background, false, unused_rng);
-    std::copy(fine_color().begin(), fine_color().begin() + std::ptrdiff_t(3 * count),
+    forward(model, std::span<const Ray>(&image_rays_[first], count), background, false, unused_rng, context);
+    std::copy(context.fine_color().begin(), context.fine_color().begin() + std::ptrdiff_t(3 * count),
               image.data.begin() + std::ptrdiff_t(3 * first));
   }
   return true;

@@ -24,27 +24,50 @@
 
 namespace splat {
 
+// What one forward pass over a batch of rays made, and what its backward needs: each pass's
+// samples, network activations and compositing, and the background. The caller owns it, as
+// it owns the rasterizer's RenderResult, so a backward names the forward it differentiates;
+// one context reused across batches allocates nothing once it has grown.
+struct NerfForwardContext {
+  // One pass (coarse or fine): samples, network inputs and outputs, compositing.
+  struct Pass {
+    std::vector<std::uint32_t> offsets;  // [R + 1]
+    std::vector<float> t, delta;         // [S]
+    std::vector<float> positions, directions, sigma, rgb;  // [S, 3] / [S]
+    NerfMlpContext mlp;                  // the network's activations (its backward's scratch too)
+    VolumeRenderResult render;
+    RaySampleBatch batch() const { return {offsets, t, delta}; }
+  };
+  Pass coarse, fine;
+  float background[3] = {1, 1, 1};
+
+  // [R, 3] colours, with the background.
+  const std::vector<float>& coarse_color() const { return coarse.render.color; }
+  const std::vector<float>& fine_color() const { return fine.render.color; }
+  std::size_t coarse_sample_count() const { return coarse.t.size(); }
+  std::size_t fine_sample_count() const { return fine.t.size(); }
+};
+
 class NerfRenderer {
  public:
-  // Renders `rays`; `jitter` draws sample positions from `rng` (training), otherwise they are
-  // deterministic midpoints (evaluation, settings.coarse_samples_for(true) of them; `rng`
-  // unused). Keeps what backward needs.
+  // Renders `rays` into `context`; `jitter` draws sample positions from `rng` (training),
+  // otherwise they are deterministic midpoints (evaluation, settings.coarse_samples_for(true)
+  // of them; `rng` unused).
   void forward(const NerfModel& model, std::span<const Ray> rays, const float background[3],
-               bool jitter, std::mt19937& rng);
+               bool jitter, std::mt19937& rng, NerfForwardContext& context);
 
-  // [R, 3] colours of the last forward, with the background.
-  const std::vector<float>& coarse_color() const { return coarse_.render.color; }
-  const std::vector<float>& fine_color() const { return fine_.render.color; }
-  std::size_t coarse_sample_count() const { return coarse_.t.size(); }
-  std::size_t fine_sample_count() const { return fine_.t.size(); }
-
-  // Cotangents of the last forward's colours [R, 3] → v_coarse_params and v_fine_params
-  // (the networks' parameter gradients), which this ADDS to.
-  void backward(const NerfModel& model, std::span<const float> v_coarse_color,
+  // Cotangents of `context`'s colours [R, 3] (from forward() with this model) →
+  // v_coarse_params and v_fine_params (the networks' parameter gradients), which this ADDS
+  // to. The networks' backward uses the context's activations as scratch.
+  void backward(const NerfModel& model, NerfForwardContext& context, std::span<const float> v_coarse_color,
                 std::span<const float> v_fine_color, std::span<float> v_coarse_params,
                 std::span<float> v_fine_params);
 
-  // A whole image (fine colours), rendered in batches of rays without jitter.
+  // A whole image (fine colours), rendered in batches of rays without jitter through
+  // `context` (which it overwrites: a trainer passes its training context rather than hold a
+  // second one), or through the renderer's own.
+  Image render_image(const NerfModel& model, const Camera& camera, const float background[3],
+                     NerfForwardContext& context);
   Image render_image(const NerfModel& model, const Camera& camera, const float background[3]);
   // The same into `image`, checking `cancelled` between batches: once it returns true the
   // render stops and this returns false, `image` incomplete (the viewer drops stale frames).
@@ -52,27 +75,22 @@ class NerfRenderer {
                     const std::function<bool()>& cancelled);
 
  private:
-  // One pass (coarse or fine): samples, network inputs and outputs, compositing.
-  struct Pass {
-    std::vector<std::uint32_t> offsets;  // [R + 1]
-    std::vector<float> t, delta;         // [S]
-    std::vector<float> positions, directions, sigma, rgb;  // [S, 3] / [S]
-    NerfMlpContext mlp;
-    VolumeRenderResult render;
-    std::vector<float> v_sigma, v_rgb;
-    RaySampleBatch batch() const { return {offsets, t, delta}; }
-  };
-  void place_coarse(const NerfModel& model, std::span<const Ray> rays, bool jitter, std::mt19937& rng);
-  void place_fine(const NerfModel& model, std::span<const Ray> rays, bool jitter, std::mt19937& rng);
+  using Pass = NerfForwardContext::Pass;
+  bool render_image_into(const NerfModel& model, const Camera& camera, const float background[3], Image& image,
+                         const std::function<bool()>& cancelled, NerfForwardContext& context);
+  void place_coarse(const NerfModel& model, std::span<const Ray> rays, bool jitter, std::mt19937& rng,
+                    Pass& pass);
+  void place_fine(const NerfModel& model, std::span<const Ray> rays, bool jitter, std::mt19937& rng,
+                  const Pass& coarse, Pass& pass);
   static void evaluate(const NerfMlp& mlp, std::span<const Ray> rays, Pass& pass,
                        const float background[3]);
-  static void backward_pass(const NerfMlp& mlp, Pass& pass, std::span<const float> v_color,
-                            const float background[3], std::span<float> v_params);
+  void backward_pass(const NerfMlp& mlp, Pass& pass, std::span<const float> v_color,
+                     const float background[3], std::span<float> v_params);
 
-  Pass coarse_, fine_;
-  std::vector<float> scratch_t_, scratch_delta_, scratch_fine_;
-  float background_[3] = {1, 1, 1};
+  // Scratch: one ray's samples while placing them, and a pass's cotangents in the backward.
+  std::vector<float> scratch_t_, scratch_delta_, scratch_fine_, v_sigma_, v_rgb_;
   std::vector<Ray> image_rays_;
+  NerfForwardContext image_context_;  // render_image's own, grown only if used
 };
 
 }  // namespace splat

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "splat/core/error.hpp"
 
@@ -58,10 +59,19 @@ struct ArrayViews {
   }
 };
 
-ArrayViews views(std::vector<float>& param, const std::vector<float>& grad,
-                 std::vector<float>& m, std::vector<float>& v, std::size_t width) {
-  return {param.data(), grad.data(), m.data(), v.data(), width};
+// One parameter group's arrays across the four models.
+ArrayViews views(const ParameterGroup& group, GaussianModel& params, const GaussianModel& grads,
+                 AdamState& state) {
+  return {group.of(params).data(), group.of(grads).data(), group.of(state.first_moment).data(),
+          group.of(state.second_moment).data(), group.width(params.sh_degree)};
 }
+
+// A group stepped as a whole: its arrays, step size and switch.
+struct GroupStep {
+  ArrayViews arrays;
+  float step_size;
+  bool active;
+};
 
 void require_shape(const GaussianModel& params, const GaussianModel& other, const char* name) {
   other.check_consistent();
@@ -100,20 +110,22 @@ void adam_step(GaussianModel& params, const GaussianModel& grads, AdamState& sta
                            float(1.0 - settings.beta2), float(std::sqrt(bias_correction2)),
                            float(settings.epsilon)};
   auto step_size = [&](float group_lr) { return float(double(group_lr) / bias_correction1); };
-  const float means_step = step_size(lr.means), dc_step = step_size(lr.sh_dc),
-              rest_step = step_size(lr.sh_rest), opacity_step = step_size(lr.opacity),
-              scales_step = step_size(lr.scales), rotations_step = step_size(lr.rotations);
 
-  GaussianModel& m = state.first_moment;
-  GaussianModel& v = state.second_moment;
-  const ArrayViews means = views(params.means, grads.means, m.means, v.means, 3);
-  const ArrayViews scales = views(params.log_scales, grads.log_scales, m.log_scales,
-                                  v.log_scales, 3);
-  const ArrayViews quats = views(params.quats, grads.quats, m.quats, v.quats, 4);
-  const ArrayViews opacity = views(params.opacity_logits, grads.opacity_logits,
-                                   m.opacity_logits, v.opacity_logits, 1);
-  const ArrayViews sh = views(params.sh, grads.sh, m.sh, v.sh,
-                              std::size_t(params.sh_coefficients()) * 3);
+  // Every group but the SH coefficients is one Adam group; the SH group is two (band 0 and
+  // the rest, at different rates), stepped below.
+  std::vector<GroupStep> whole;
+  ArrayViews sh{};
+  for (const ParameterGroup& group : kParameterGroups) {
+    const ArrayViews arrays = views(group, params, grads, state);
+    switch (group.id) {
+      case ParameterGroupId::kMeans: whole.push_back({arrays, step_size(lr.means), active.means}); break;
+      case ParameterGroupId::kLogScales: whole.push_back({arrays, step_size(lr.scales), active.scales}); break;
+      case ParameterGroupId::kQuats: whole.push_back({arrays, step_size(lr.rotations), active.rotations}); break;
+      case ParameterGroupId::kOpacityLogits: whole.push_back({arrays, step_size(lr.opacity), active.opacity}); break;
+      case ParameterGroupId::kSh: sh = arrays; break;
+    }
+  }
+  const float dc_step = step_size(lr.sh_dc), rest_step = step_size(lr.sh_rest);
   constexpr std::size_t kDcFloats = 3;  // band 0 leads each row: k = 0, RGB
   const std::size_t rest_floats = sh.width - kDcFloats;
 
@@ -121,10 +133,8 @@ void adam_step(GaussianModel& params, const GaussianModel& grads, AdamState& sta
       tbb::blocked_range<std::size_t>(0, params.size(), kGaussiansPerTask),
       [&](const tbb::blocked_range<std::size_t>& range) {
         const std::size_t first = range.begin(), last = range.end();
-        if (active.means) means.update_rows(first, last, means_step, c);
-        if (active.scales) scales.update_rows(first, last, scales_step, c);
-        if (active.rotations) quats.update_rows(first, last, rotations_step, c);
-        if (active.opacity) opacity.update_rows(first, last, opacity_step, c);
+        for (const GroupStep& group : whole)
+          if (group.active) group.arrays.update_rows(first, last, group.step_size, c);
         if (active.sh_dc || active.sh_rest) {
           // Band 0 and the rest interleave row by row: two short runs per Gaussian.
           for (std::size_t row = first; row < last; ++row) {

@@ -28,6 +28,11 @@ struct GroupLearningRates {
   float opacity = 0.05f;
   float scales = 5e-3f;
   float rotations = 1e-3f;
+
+  // Every rate times `factor`.
+  void multiply(float factor) {
+    for (float* rate : {&means, &sh_dc, &sh_rest, &opacity, &scales, &rotations}) *rate *= factor;
+  }
 };
 
 // Which groups a step touches. PyTorch skips a parameter without a gradient, moments and all;

@@ -12,13 +12,9 @@
 namespace splat {
 namespace {
 
-// In float, as the official activations run on the GPU.
-float sigmoid(float x) { return 1.0f / (1.0f + std::exp(-x)); }
-float inverse_sigmoid(float y) { return std::log(y / (1.0f - y)); }
-
 float max_scale(const GaussianModel& model, std::size_t i) {
-  const float* s = &model.log_scales[3 * i];
-  return std::max({std::exp(s[0]), std::exp(s[1]), std::exp(s[2])});
+  const Vec3<float> s = model.scale(i);
+  return std::max({s[0], s[1], s[2]});
 }
 
 void require_model_shape(const GaussianModel& model, const GaussianModel& moment,
@@ -103,13 +99,12 @@ GaussianModel split_offspring(const GaussianModel& model, const std::vector<std:
   for (std::size_t r = 0; r < born.size(); ++r) {
     float* mean = &born.means[3 * r];
     float* log_scale = &born.log_scales[3 * r];
-    const float* q = &born.quats[4 * r];
-    const Mat3<float> rotation = quat_to_rotmat(Vec4<float>(q[0], q[1], q[2], q[3]));
+    const Mat3<float> rotation = born.rotation(r);
+    const Vec3<float> scale = born.scale(r);
     Vec3<float> sample;
     for (int a = 0; a < 3; ++a) {
-      const float scale = std::exp(log_scale[a]);
-      sample[a] = scale * z[3 * r + a];
-      log_scale[a] = std::log(scale / settings.split_scale_divisor);
+      sample[a] = scale[a] * z[3 * r + a];
+      log_scale[a] = std::log(scale[a] / settings.split_scale_divisor);
     }
     const Vec3<float> offset = rotation * sample;
     for (int a = 0; a < 3; ++a) mean[a] += offset[a];
@@ -207,7 +202,7 @@ DensityControlReport DensityControl::densify_and_prune(GaussianModel& model, Ada
   for (std::size_t i : candidates.split) keep[i] = 0;
   for (std::size_t i = 0; i < total; ++i) {
     if (!keep[i]) continue;
-    bool prune = sigmoid(model.opacity_logits[i]) < settings_.min_opacity;
+    bool prune = model.opacity(i) < settings_.min_opacity;
     if (max_screen_size) {
       if (settings_.prune_by_screen_size && max_radii[i] > *max_screen_size) prune = true;
       if (max_scale(model, i) > world_limit) prune = true;
@@ -263,8 +258,7 @@ bool DensityControl::resets_opacity_at(int iteration, int views) const {
 void reset_opacity(GaussianModel& model, AdamState& adam, float cap) {
   require_model_shape(model, adam.first_moment, "first moment");
   require_model_shape(model, adam.second_moment, "second moment");
-  for (float& logit : model.opacity_logits)
-    logit = inverse_sigmoid(std::min(sigmoid(logit), cap));
+  for (float& stored : model.opacity_logits) stored = logit(std::min(sigmoid(stored), cap));
   std::fill(adam.first_moment.opacity_logits.begin(), adam.first_moment.opacity_logits.end(),
             0.0f);
   std::fill(adam.second_moment.opacity_logits.begin(),

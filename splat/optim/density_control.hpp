@@ -167,7 +167,7 @@ GaussianModel split_offspring(const GaussianModel& model, const std::vector<std:
                               const DensityControlSettings& settings, std::mt19937& rng,
                               std::vector<std::size_t>& offspring_sources);
 
-// Caps every opacity at `cap`: logit ← inverse_sigmoid(min(sigmoid(logit), cap)), and zeroes
+// Caps every opacity at `cap`: stored ← logit(min(sigmoid(stored), cap)), and zeroes
 // the opacity moments (the official replace_tensor_to_optimizer); step count kept.
 void reset_opacity(GaussianModel& model, AdamState& adam, float cap);
 

@@ -11,9 +11,6 @@ namespace splat {
 
 namespace {
 
-float sigmoid(float x) { return 1.0f / (1.0f + std::exp(-x)); }
-float logit(float p) { return std::log(p / (1.0f - p)); }
-
 double binomial(int n, int k) {
   double c = 1.0;
   for (int j = 1; j <= k; ++j) c = c * double(n - k + j) / double(j);
@@ -27,7 +24,7 @@ void reshape_sources(GaussianModel& model, AdamState& adam, const std::vector<in
   for (std::size_t i = 0; i < copies.size(); ++i) {
     if (copies[i] == 0) continue;
     const int total = std::min(copies[i] + 1, kMaxRelocationCopies);
-    const RelocatedShape shape = relocated_shape(sigmoid(model.opacity_logits[i]), total, min_opacity);
+    const RelocatedShape shape = relocated_shape(model.opacity(i), total, min_opacity);
     model.opacity_logits[i] = logit(shape.opacity);
     const float log_ratio = std::log(shape.scale_ratio);
     for (int a = 0; a < 3; ++a) model.log_scales[3 * i + a] += log_ratio;
@@ -70,7 +67,7 @@ std::vector<std::size_t> sample_by_opacity(const GaussianModel& model,
   std::vector<double> cumulative(n);
   double total = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    if (eligible.empty() || eligible[i]) total += double(sigmoid(model.opacity_logits[i]));
+    if (eligible.empty() || eligible[i]) total += double(model.opacity(i));
     cumulative[i] = total;
   }
   std::vector<std::size_t> sources;

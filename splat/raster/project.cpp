@@ -4,6 +4,7 @@
 #include <cmath>
 #include <tbb/parallel_for.h>
 
+#include "splat/core/activations.hpp"
 #include "splat/core/simd.hpp"
 #include "splat/core/spherical_harmonics.hpp"
 #include "splat/raster/pixel_projection.hpp"
@@ -229,7 +230,7 @@ std::uint32_t project_lanes(const GaussianModel& model, std::size_t first, int l
   const LaneTileRect rect = reference_tile_rects(center_x, center_y, radius, cam.grid);
   projected &= (rect.x1 != rect.x0) & (rect.y1 != rect.y0);
 
-  const f32v opacity = 1.0f / (1.0f + simd::per_lane(-g.opacity_logit, exp_of));  // sigmoid
+  const f32v opacity = simd::sigmoid(g.opacity_logit);
   const f32v to_x = g.mean[0] - cam.center.x, to_y = g.mean[1] - cam.center.y, to_z = g.mean[2] - cam.center.z;
   const f32v inv_length = 1.0f / simd::sqrt(to_x * to_x + to_y * to_y + to_z * to_z);  // glm::normalize
   dir[0] = to_x * inv_length;

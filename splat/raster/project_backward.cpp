@@ -78,12 +78,10 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
                                           g.mean_y * 0.5f * float(camera.height));
 
       // Recompute the forward quantities (cheaper than storing them for every Gaussian).
-      const glm::vec3 mean(model.means[3 * i], model.means[3 * i + 1], model.means[3 * i + 2]);
+      const glm::vec3 mean = model.mean(i);
       const glm::vec3 mean_camera = camera.camera_from_world(mean);
-      const glm::vec3 scale(std::exp(model.log_scales[3 * i]), std::exp(model.log_scales[3 * i + 1]),
-                            std::exp(model.log_scales[3 * i + 2]));
-      const glm::vec4 quat(model.quats[4 * i], model.quats[4 * i + 1], model.quats[4 * i + 2],
-                           model.quats[4 * i + 3]);
+      const glm::vec3 scale = model.scale(i);
+      const glm::vec4 quat = model.quat(i);  // raw: its gradient is the stored parameter's
       const Mat3<float> rotation = quat_to_rotmat(quat);
       const Mat3<float> cov3d = covariance_3d(scale, rotation);
       const Sym2<float> cov2d = covariance_2d(mean_camera, cov3d, world_to_camera, camera.fx,

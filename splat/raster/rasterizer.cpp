@@ -31,15 +31,15 @@ void Rasterizer::render(const GaussianModel& model, const Camera& camera,
 
   auto start = Clock::now();
   project_gaussians(model, camera, settings.sh_degree, frame.projected);
-  timings_.project_ms = ms_since(start);
+  result.timings.project_ms = ms_since(start);
 
   start = Clock::now();
   bin_and_sort(frame.projected, frame.grid, frame.bins);
-  timings_.bin_sort_ms = ms_since(start);
+  result.timings.bin_sort_ms = ms_since(start);
 
   start = Clock::now();
   blend_tiles(frame.projected, frame.bins, frame.grid, settings.background, result);
-  timings_.blend_ms = ms_since(start);
+  result.timings.blend_ms = ms_since(start);
 }
 
 void Rasterizer::backward(const GaussianModel& model, const Camera& camera,
@@ -57,13 +57,13 @@ void Rasterizer::backward(const GaussianModel& model, const Camera& camera,
   auto start = Clock::now();
   blend_tiles_backward(frame.projected, frame.bins, frame.grid, settings.background,
                        settings.alpha_clamp_gradient, forward, v_color, overlap_grads_);
-  timings_.blend_backward_ms = ms_since(start);
+  grads.timings.blend_backward_ms = ms_since(start);
 
   start = Clock::now();
   project_gaussians_backward(model, camera, settings.sh_degree, frame.projected, frame.bins,
                              overlap_grads_, grads.params, grads.viewspace_grad_norm,
                              grads.blend_weight, grads.with_camera_pose ? &grads.camera_pose : nullptr);
-  timings_.project_backward_ms = ms_since(start);
+  grads.timings.project_backward_ms = ms_since(start);
 }
 
 }  // namespace splat

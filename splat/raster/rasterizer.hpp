@@ -23,12 +23,10 @@ struct RenderSettings {
   AlphaClampGradient alpha_clamp_gradient = AlphaClampGradient::kZero;
 };
 
-// Wall time of each stage of the last render (and of the last backward), in milliseconds.
-struct RenderTimings {
-  double project_ms = 0, bin_sort_ms = 0, blend_ms = 0;
+// Wall time of each stage of a backward pass, in milliseconds.
+struct BackwardTimings {
   double blend_backward_ms = 0, project_backward_ms = 0;
-  double total_ms() const { return project_ms + bin_sort_ms + blend_ms; }
-  double backward_ms() const { return blend_backward_ms + project_backward_ms; }
+  double total_ms() const { return blend_backward_ms + project_backward_ms; }
 };
 
 // Gradients of a loss with respect to the model, from Rasterizer::backward.
@@ -39,25 +37,24 @@ struct RasterGradients {
                                             // each Gaussian makes (pruning by contribution)
   bool with_camera_pose = false;            // set to also get ∂L/∂(the camera's pose):
   CameraPoseGradient camera_pose;           // (pose refinement)
+  BackwardTimings timings;                  // what the backward that wrote these took
 };
 
 class Rasterizer {
  public:
-  // Renders `model` as seen by `camera` into `result` (resized to the camera's image).
-  // Throws ArgumentError for an inconsistent model or a camera without pixels.
+  // Renders `model` as seen by `camera` into `result` (resized to the camera's image), with
+  // the stages' timings in result.timings. Throws ArgumentError for an inconsistent model or a camera without pixels.
   void render(const GaussianModel& model, const Camera& camera, const RenderSettings& settings,
               RenderResult& result);
 
   // Gradients of L with respect to every parameter of `model`, given v_color = ∂L/∂color
   // ([H, W, 3]) for the image in `forward`, which render() must have made of this same model,
-  // camera and settings. Bit-identical for any thread count.
+  // camera and settings. Bit-identical for any thread count. grads.timings receives the
+  // stages' timings.
   void backward(const GaussianModel& model, const Camera& camera, const RenderSettings& settings,
                 const RenderResult& forward, const Image& v_color, RasterGradients& grads);
 
-  const RenderTimings& last_timings() const { return timings_; }
-
  private:
-  RenderTimings timings_;
   std::vector<Splat2DGrad> overlap_grads_;  // [M] scratch for the backward pass
 };
 

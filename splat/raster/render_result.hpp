@@ -17,6 +17,12 @@ struct RasterFrame {
   TileGrid grid;
 };
 
+// Wall time of each stage of a render, in milliseconds.
+struct RenderTimings {
+  double project_ms = 0, bin_sort_ms = 0, blend_ms = 0;
+  double total_ms() const { return project_ms + bin_sort_ms + blend_ms; }
+};
+
 struct RenderResult {
   Image color;                                   // [H, W, 3] with background, not clamped
   std::vector<float> alpha;                      // [H, W] 1 − final transmittance
@@ -25,6 +31,7 @@ struct RenderResult {
   std::vector<std::uint32_t> contributor_count;  // [H, W] entries of the pixel's tile list
                                                  // up to and including its last blended one
   RasterFrame frame;                             // what the pixels were blended from
+  RenderTimings timings;                         // what Rasterizer::render took for it
 
   void resize(int width, int height) {
     if (color.width != width || color.height != height || color.channels != 3)

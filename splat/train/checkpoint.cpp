@@ -1,10 +1,12 @@
 // SplatTrainer checkpoints: a small binary container.
 //   "SPLATCKP" | uint32 version | uint64 header bytes | header JSON | arrays
 // Each array: uint64 element count, then that many little-endian float32. The arrays are the
-// model's five parameter arrays, then Adam's first and second moments (five each), then the
-// density strategy's statistics (DensityStrategy::checkpoint_arrays: three for the official
-// strategy, in the order every version-1 checkpoint has them).
+// model's five parameter groups (kParameterGroups, in its order), then Adam's first and
+// second moments (five each), then the density strategy's statistics
+// (DensityStrategy::checkpoint_arrays: three for the official strategy, in the order every
+// version-1 checkpoint has them).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -22,13 +24,6 @@ namespace {
 constexpr char kMagic[8] = {'S', 'P', 'L', 'A', 'T', 'C', 'K', 'P'};
 constexpr std::uint32_t kVersion = 1;
 constexpr std::uint64_t kMaxHeaderBytes = 1 << 24;
-
-std::vector<std::vector<float>*> model_arrays(GaussianModel& m) {
-  return {&m.means, &m.log_scales, &m.quats, &m.opacity_logits, &m.sh};
-}
-std::vector<const std::vector<float>*> model_arrays(const GaussianModel& m) {
-  return {&m.means, &m.log_scales, &m.quats, &m.opacity_logits, &m.sh};
-}
 
 void write_array(std::ostream& out, const std::vector<float>& a) {
   const std::uint64_t n = a.size();
@@ -63,8 +58,9 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
   rng_state << rng_;
   header["rng"] = rng_state.str();
   header["strategy_state"] = strategy_->checkpoint_state();
-  if (config_.refine_poses) header["pose_steps"] = pose_refiner_.steps();
-  if (config_.exposure_compensation) header["exposure_steps"] = exposure_.steps();
+  // The training views' pose corrections and exposure maps, those that are on.
+  const auto per_view = corrections_.states();
+  for (const auto& state : per_view) header[state.steps_key] = state.adam->steps();
   const std::string text = header.dump();
 
   write_stream_atomically(file, [&](std::ostream& out) {
@@ -74,15 +70,11 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
     out.write(reinterpret_cast<const char*>(&size), sizeof(size));
     out.write(text.data(), std::streamsize(size));
     for (const GaussianModel* g : {&model_, &adam_.first_moment, &adam_.second_moment})
-      for (const std::vector<float>* a : model_arrays(*g)) write_array(out, *a);
+      for (const ParameterGroup& group : kParameterGroups) write_array(out, group.of(*g));
     for (const std::vector<float>* a : strategy_->checkpoint_arrays()) write_array(out, *a);
-    if (config_.refine_poses)  // the training views' pose corrections and their Adam moments
+    for (const auto& state : per_view)  // the values and their Adam moments
       for (const std::vector<float>& a :
-           {pose_refiner_.parameters(), pose_refiner_.first_moments(), pose_refiner_.second_moments()})
-        write_array(out, a);
-    if (config_.exposure_compensation)  // the training views' exposure maps and their Adam moments
-      for (const std::vector<float>& a :
-           {exposure_.parameters(), exposure_.first_moments(), exposure_.second_moments()})
+           {state.adam->parameters(), state.adam->first_moments(), state.adam->second_moments()})
         write_array(out, a);
   });
 }
@@ -142,34 +134,29 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
 
   const std::uint64_t remaining = file_size - std::uint64_t(in.tellg());
   for (GaussianModel* g : {&model_, &adam_.first_moment, &adam_.second_moment})
-    for (std::vector<float>* a : model_arrays(*g)) read_array(in, *a, remaining, file);
+    for (const ParameterGroup& group : kParameterGroups) read_array(in, group.of(*g), remaining, file);
   // The checkpoint's config named the strategy: its statistics follow the moments.
   strategy_ = make_density_strategy(config_, dataset_.train.size(), 0);
   for (std::vector<float>* a : strategy_->checkpoint_arrays()) read_array(in, *a, remaining, file);
-  std::vector<float> pose_arrays[3];
-  if (config_.refine_poses)
-    for (std::vector<float>& a : pose_arrays) read_array(in, a, remaining, file);
-  std::vector<float> exposure_arrays[3];
-  if (config_.exposure_compensation)
-    for (std::vector<float>& a : exposure_arrays) read_array(in, a, remaining, file);
+  // The checkpoint's config also says which per-view corrections there are.
+  corrections_ = ViewCorrections(dataset_, config_, scene_extent_);
+  const auto per_view = corrections_.states();
+  std::vector<std::array<std::vector<float>, 3>> per_view_arrays(per_view.size());
+  for (std::array<std::vector<float>, 3>& arrays : per_view_arrays)
+    for (std::vector<float>& a : arrays) read_array(in, a, remaining, file);
   try {
-    if (config_.refine_poses) {
-      pose_refiner_ = new_pose_refiner();
-      pose_refiner_.restore(pose_arrays[0], pose_arrays[1], pose_arrays[2],
-                            header.at("pose_steps").get<std::vector<long long>>());
-    }
-    if (config_.exposure_compensation) {
-      exposure_ = ExposureCompensation(dataset_.train.size());
-      exposure_.restore(exposure_arrays[0], exposure_arrays[1], exposure_arrays[2],
-                        header.at("exposure_steps").get<std::vector<long long>>());
+    for (std::size_t k = 0; k < per_view.size(); ++k) {
+      const std::array<std::vector<float>, 3>& a = per_view_arrays[k];
+      per_view[k].adam->restore(a[0], a[1], a[2], header.at(per_view[k].steps_key).get<std::vector<long long>>());
     }
     model_.check_consistent();
     adam_.first_moment.check_consistent();
     adam_.second_moment.check_consistent();
     // A non-finite value would make the first step's model, and the last good one, non-finite.
+    const auto finite = [](float v) { return std::isfinite(v); };
     for (const GaussianModel* g : {&model_, &adam_.first_moment, &adam_.second_moment})
-      for (const std::vector<float>* a : model_arrays(*g))
-        if (!std::all_of(a->begin(), a->end(), [](float v) { return std::isfinite(v); }))
+      for (const ParameterGroup& group : kParameterGroups)
+        if (!std::all_of(group.of(*g).begin(), group.of(*g).end(), finite))
           throw ArgumentError(std::string(g == &model_ ? "a model" : "an Adam moment") +
                               " value is not finite");
     if (adam_.first_moment.size() != model_.size() || adam_.second_moment.size() != model_.size())

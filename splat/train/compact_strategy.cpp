@@ -13,8 +13,6 @@ namespace splat {
 
 namespace {
 
-float sigmoid(float x) { return 1.0f / (1.0f + std::exp(-x)); }
-
 // A counter-based random stream: the value for (seed, iteration, index) is a pure function of
 // them, so per-Gaussian noise can be drawn in parallel and does not depend on thread count.
 std::uint64_t splitmix64(std::uint64_t x) {
@@ -78,12 +76,13 @@ void CompactStrategy::add_regularization(const GaussianModel& model, GaussianMod
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       if (opacity_coefficient > 0) {
-        const float o = sigmoid(model.opacity_logits[i]);
+        const float o = model.opacity(i);
         grads.opacity_logits[i] += opacity_coefficient * o * (1.0f - o);
       }
-      if (scale_coefficient > 0)
-        for (int a = 0; a < 3; ++a)
-          grads.log_scales[3 * i + a] += scale_coefficient * std::exp(model.log_scales[3 * i + a]);
+      if (scale_coefficient > 0) {
+        const Vec3<float> scale = model.scale(i);
+        for (int a = 0; a < 3; ++a) grads.log_scales[3 * i + a] += scale_coefficient * scale[a];
+      }
     }
   });
 }
@@ -160,7 +159,7 @@ void CompactStrategy::grow(int iteration, TrainingState& state, DensityStepRepor
     // The candidates say how many; live Gaussians drawn by opacity say where.
     std::vector<std::uint8_t> alive(n);
     for (std::size_t i = 0; i < n; ++i)
-      alive[i] = sigmoid(model.opacity_logits[i]) >= settings_.prune_opacity;
+      alive[i] = model.opacity(i) >= settings_.prune_opacity;
     const std::vector<std::size_t> sources = sample_by_opacity(
         model, alive, candidates.clone.size() + candidates.split.size(), state.rng);
     added = add_relocated_copies(aligned, sources, settings_.prune_opacity);
@@ -180,7 +179,7 @@ void CompactStrategy::grow(int iteration, TrainingState& state, DensityStepRepor
   keep.resize(total, 1);
   std::vector<std::size_t> dead;
   for (std::size_t i = 0; i < total; ++i)
-    if (keep[i] && sigmoid(model.opacity_logits[i]) < settings_.prune_opacity) dead.push_back(i);
+    if (keep[i] && model.opacity(i) < settings_.prune_opacity) dead.push_back(i);
   std::size_t pruned = 0;
   if (settings_.relocate_dead && !dead.empty()) {
     std::vector<std::uint8_t> alive(keep);
@@ -230,13 +229,10 @@ void CompactStrategy::step_post_optimizer(int iteration, TrainingState& state, f
   const float scale = settings_.noise_lr * means_lr;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, model.size(), 4096), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      const float o = sigmoid(model.opacity_logits[i]);
+      const float o = model.opacity(i);
       const float gate = sigmoid(100.0f * ((1.0f - o) - 0.995f));
       if (gate < 1e-7f) continue;
-      const Vec3<float> s(std::exp(model.log_scales[3 * i]), std::exp(model.log_scales[3 * i + 1]),
-                          std::exp(model.log_scales[3 * i + 2]));
-      const float* q = &model.quats[4 * i];
-      const Mat3<float> cov = covariance_3d(s, quat_to_rotmat(Vec4<float>(q[0], q[1], q[2], q[3])));
+      const Mat3<float> cov = covariance_3d(model.scale(i), model.rotation(i));
       const Vec3<float> offset = cov * normal3(seed_, iteration, i) * (gate * scale);
       for (int a = 0; a < 3; ++a) model.means[3 * i + a] += offset[a];
     }

@@ -28,16 +28,9 @@ class ExposureCompensation {
   // view's map, and every map moved so that their mean stays the identity.
   void backward_and_step(std::size_t view, const Image& rendered, Image& v_image, float lr);
 
-  // The state for checkpoints: six numbers per view, Adam's moments alike, each view's steps.
-  const std::vector<float>& parameters() const { return adam_.parameters(); }
-  std::vector<float> first_moments() const { return adam_.first_moments(); }
-  std::vector<float> second_moments() const { return adam_.second_moments(); }
-  const std::vector<long long>& steps() const { return adam_.steps(); }
-  // Restores it; throws ArgumentError if the sizes do not match views() or a value is not finite.
-  void restore(const std::vector<float>& parameters, const std::vector<float>& first_moments,
-               const std::vector<float>& second_moments, const std::vector<long long>& steps) {
-    adam_.restore(parameters, first_moments, second_moments, steps);
-  }
+  // The maps and their optimiser, as checkpoints store and restore them: six numbers per view.
+  const PerViewAdam& state() const { return adam_; }
+  PerViewAdam& state() { return adam_; }
 
  private:
   PerViewAdam adam_;  // per view: kExposureValues numbers

@@ -180,13 +180,13 @@ StepResult NerfTrainer::step() {
     rays_[r] = camera_ray(view.camera, float(x), float(y));
     for (int c = 0; c < 3; ++c) targets_[3 * r + c] = view.image.at(x, y, c);
   }
-  renderer_.forward(model_, rays_, config_.background, /*jitter=*/true, rng_);
+  renderer_.forward(model_, rays_, config_.background, /*jitter=*/true, rng_, forward_);
   result.timings.forward = ms_since(start);
 
   start = Clock::now();
   // L = MSE(coarse) + MSE(fine) over the batch's rays and channels (the paper's loss).
-  const auto& coarse = renderer_.coarse_color();
-  const auto& fine = renderer_.fine_color();
+  const auto& coarse = forward_.coarse_color();
+  const auto& fine = forward_.fine_color();
   v_coarse_.resize(3 * batch);
   v_fine_.resize(3 * batch);
   double coarse_sse = 0, fine_sse = 0;
@@ -207,7 +207,7 @@ StepResult NerfTrainer::step() {
   start = Clock::now();
   coarse_grad_.assign(model_.coarse.parameter_count(), 0.0f);
   fine_grad_.assign(model_.fine.parameter_count(), 0.0f);
-  renderer_.backward(model_, v_coarse_, v_fine_, coarse_grad_, fine_grad_);
+  renderer_.backward(model_, forward_, v_coarse_, v_fine_, coarse_grad_, fine_grad_);
   result.timings.backward = ms_since(start);
 
   start = Clock::now();
@@ -232,7 +232,7 @@ StepResult NerfTrainer::step() {
 }
 
 Image NerfTrainer::render(const Camera& camera) {
-  Image image = renderer_.render_image(model(), camera, config_.background);
+  Image image = renderer_.render_image(model(), camera, config_.background, forward_);
   for (float& v : image.data) v = std::clamp(v, 0.0f, 1.0f);
   return image;
 }

@@ -13,7 +13,9 @@
 #include "splat/nerf/nerf_model.hpp"
 #include "splat/nerf/nerf_renderer.hpp"
 #include "splat/optim/flat_adam.hpp"
-#include "splat/train/splat_trainer.hpp"  // StepResult, Evaluation, TrainingDiverged
+#include "splat/train/evaluation.hpp"
+#include "splat/train/step_result.hpp"
+#include "splat/train/training_config.hpp"
 
 namespace splat {
 
@@ -126,6 +128,7 @@ class NerfTrainer {
   int iteration_ = 0;
   double time_budget_fraction_ = 0;
   NerfRenderer renderer_;
+  NerfForwardContext forward_;  // the training batch's forward, and the scoring renders'
   std::vector<Ray> rays_;
   std::vector<float> targets_, v_coarse_, v_fine_, coarse_grad_, fine_grad_;
   // One per network: a context sized for the other network's shape is rebuilt from scratch,

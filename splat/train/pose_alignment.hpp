@@ -63,17 +63,10 @@ class PoseRefiner {
   void step(std::size_t view, const Camera& base, const CameraPoseGradient& gradient,
             const PoseLearningRates& lr);
 
-  // The state for checkpoints: 7 numbers per view (the quaternion, then τ), Adam's moments
-  // alike, and each view's step count.
-  const std::vector<float>& parameters() const { return adam_.parameters(); }
-  std::vector<float> first_moments() const { return adam_.first_moments(); }
-  std::vector<float> second_moments() const { return adam_.second_moments(); }
-  const std::vector<long long>& steps() const { return adam_.steps(); }
-  // Restores it; throws ArgumentError if the sizes do not match views() or a value is not finite.
-  void restore(const std::vector<float>& parameters, const std::vector<float>& first_moments,
-               const std::vector<float>& second_moments, const std::vector<long long>& steps) {
-    adam_.restore(parameters, first_moments, second_moments, steps);
-  }
+  // The corrections and their optimiser, as checkpoints store and restore them: 7 numbers
+  // per view (the quaternion, then τ).
+  const PerViewAdam& state() const { return adam_; }
+  PerViewAdam& state() { return adam_; }
 
  private:
   float extent_ = 1.0f;

@@ -1,79 +1,32 @@
 #pragma once
 // The Gaussian-splatting trainer: the official 3DGS optimisation loop on the CPU rasterizer.
-// One step() is one iteration: pick a training view, render, (1 − λ)·L1 + λ·(1 − SSIM),
-// backward, density control (the configured DensityStrategy's hooks), Adam. No printing: the
-// command line reports progress.
+// One step() is one iteration, or one per view of a batch: pick the views, render, score and
+// differentiate each (ViewStep), reduce the batch (BatchReduction, over the ranks of a
+// data-parallel run), density control (the configured DensityStrategy's hooks), Adam, and the
+// views' pose and exposure corrections (ViewCorrections). No printing: the command line
+// reports progress.
 #include <cmath>
 #include <filesystem>
 #include <memory>
-#include <utility>
 #include <random>
 #include <string>
 #include <vector>
 
-#include "splat/core/error.hpp"
 #include "splat/data/dataset.hpp"
 #include "splat/optim/adam.hpp"
 #include "splat/optim/far_steps.hpp"
-#include "splat/optim/photometric_loss.hpp"
 #include "splat/raster/rasterizer.hpp"
-#include "splat/train/batch_exchange.hpp"
+#include "splat/train/batch_reduction.hpp"
 #include "splat/train/density_strategy.hpp"
 #include "splat/train/evaluation.hpp"
-#include "splat/train/exposure_compensation.hpp"
 #include "splat/train/initial_model.hpp"
-#include "splat/train/pose_alignment.hpp"
 #include "splat/train/process_group.hpp"
+#include "splat/train/step_result.hpp"
 #include "splat/train/training_config.hpp"
-#include "splat/train/view_batch.hpp"
+#include "splat/train/view_corrections.hpp"
+#include "splat/train/view_step.hpp"
 
 namespace splat {
-
-// Training produced NaN or Inf: which iteration and which parameter group (or "loss").
-class TrainingDiverged : public Error {
- public:
-  TrainingDiverged(int iteration, const std::string& group)
-      : Error("training diverged at iteration " + std::to_string(iteration) + ": non-finite " +
-              group),
-        iteration_(iteration), group_(group) {}
-  int iteration() const { return iteration_; }
-  const std::string& group() const { return group_; }
-
- private:
-  int iteration_;
-  std::string group_;
-};
-
-struct IterationTimings {  // milliseconds
-  double forward = 0, loss = 0, backward = 0, optimizer = 0, densify = 0;
-  // The rasterizer's stages inside forward and backward (splats only; 0 for the NeRF).
-  double project = 0, bin_sort = 0, blend = 0, blend_backward = 0, project_backward = 0;
-  // Over several ranks: exchanging and summing the batch's gradients and statistics (0 alone).
-  double exchange = 0;
-
-  // Every figure by name: the five stages, then the rasterizer's parts.
-  static constexpr std::pair<const char*, double IterationTimings::*> kFields[] = {
-      {"forward", &IterationTimings::forward},         {"loss", &IterationTimings::loss},
-      {"backward", &IterationTimings::backward},       {"optimizer", &IterationTimings::optimizer},
-      {"densify", &IterationTimings::densify},         {"project", &IterationTimings::project},
-      {"bin_sort", &IterationTimings::bin_sort},       {"blend", &IterationTimings::blend},
-      {"blend_backward", &IterationTimings::blend_backward},
-      {"project_backward", &IterationTimings::project_backward}, {"exchange", &IterationTimings::exchange}};
-
-  double total() const { return forward + loss + backward + exchange + optimizer + densify; }
-  IterationTimings& operator+=(const IterationTimings& o) {
-    for (const auto& [name, field] : kFields) this->*field += o.*field;
-    return *this;
-  }
-};
-
-struct StepResult {
-  double loss = 0, l1 = 0, ssim = 0;
-  int resolution_divisor = 1;  // the image trained on was 1/this of the full size
-  IterationTimings timings;
-  DensityStepReport density;
-  ExchangeReport exchange;  // several ranks only
-};
 
 class SplatTrainer {
  public:
@@ -108,10 +61,10 @@ class SplatTrainer {
   const InitialisationReport& initialisation() const { return initialisation_; }
   const DensityStrategy& strategy() const { return *strategy_; }
   // Pose refinement's corrections of the training views (none without refine_poses).
-  const PoseRefiner& pose_refiner() const { return pose_refiner_; }
+  const PoseRefiner& pose_refiner() const { return corrections_.pose_refiner(); }
   // The training views' cameras as trained: the recorded ones, corrected under refine_poses.
-  std::vector<Camera> training_cameras() const;
-  const ExposureCompensation& exposure_compensation() const { return exposure_; }
+  std::vector<Camera> training_cameras() const { return corrections_.training_cameras(); }
+  const ExposureCompensation& exposure_compensation() const { return corrections_.exposure_compensation(); }
 
   // The fraction of the run's time budget spent so far (the training loop sets it before
   // each step when there is a budget); schedules that follow the budget read it.
@@ -144,18 +97,25 @@ class SplatTrainer {
   GroupLearningRates learning_rates() const;
   // Adam's decays: the official 0.9 / 0.999, raised to the batch's size.
   AdamSettings adam_settings() const;
-  PoseLearningRates pose_learning_rates() const;
-  // The pivot of `camera`'s pose correction: the depth of the scene's centre in front of it
-  // under pose_pivot_at_scene (0 if behind it), else 0 (the camera centre).
-  float pose_pivot_depth(const Camera& camera) const;
-  // The training views' corrections at the identity, each with its pivot.
-  PoseRefiner new_pose_refiner() const;
   RenderSettings render_settings() const;
   // How far the run's schedules (position step, growth and pruning phases) have advanced, in
   // the schedule's iterations: `iteration` itself, or under schedule_follows_budget the
   // iteration scaled from schedule_iterations to position_lr_max_steps, or the spent fraction
   // of the time budget × position_lr_max_steps when that is further along.
   double schedule_iteration(int iteration) const;
+
+  // The parts of a step at `iteration` (its last view's), in order.
+  // Renders, scores and differentiates this process's views of the batch (all of them, or
+  // its rank's block), each joining batch_. Returns the (last) view's recorded camera at the
+  // size trained on, which a pose step starts from (batch 1 only).
+  Camera differentiate_views(int iteration, int resolution_divisor, StepResult& result);
+  // Adam on the model, skipped after density control changed the rows, its opacity group
+  // skipped after an opacity reset; far content's steps scaled.
+  void step_model(const GaussianModel& gradient, const DensityStepReport& density, const GroupLearningRates& lr);
+  // TrainingDiverged naming the first non-finite group: the cheap groups every step, the SH
+  // coefficients (most of the data) every kLastGoodInterval iterations, when the parameters
+  // are also kept as the last good ones.
+  void check_step_finite(int iteration);
 
   const Dataset& dataset_;
   SplatTrainingConfig config_;
@@ -171,28 +131,13 @@ class SplatTrainer {
   int iteration_ = 0;
   int active_sh_degree_ = 0;
   double time_budget_fraction_ = 0;
-
-  Rasterizer rasterizer_;
-  RenderResult render_;
-  RasterGradients grads_;
-  // One step's batch (config_.batch views): which views, each one's statistics for the
-  // density strategy, and the pairwise sum of their gradients (view_batch.hpp); over several
-  // ranks, what they send each other (batch_exchange.hpp).
-  ProcessGroup* group_ = nullptr;  // null: this process takes every view
-  BatchExchange exchange_;
-  std::vector<std::size_t> batch_views_;
-  std::vector<ViewStatistics> view_stats_;
-  std::vector<BackwardStats> backward_stats_;  // views of view_stats_
-  PairwiseGradientSum batch_gradient_;
-  const GaussianModel* last_step_gradient_ = &grads_.params;
-  Image v_image_;
-  SsimScratch ssim_scratch_;
   std::vector<std::vector<Image>> reduced_images_;  // [divisor][view], empty until needed
-  glm::vec3 scene_centre_{0.0f};                   // the point cloud's median, else the cameras' mean
-  PoseRefiner pose_refiner_;                        // [train view] under refine_poses
-  std::vector<Camera> recorded_training_cameras_;   // [train view] under refine_poses
-  ExposureCompensation exposure_;                   // [train view] under exposure_compensation
-  Image compensated_;                               // the render through the view's map
+
+  std::vector<std::size_t> batch_views_;  // the step's views, in batch order
+  ViewStep view_step_;                    // one view's render, loss and backward
+  BatchReduction batch_;                  // the step's views' gradients and statistics
+  const GaussianModel* last_step_gradient_ = &view_step_.gradients().params;
+  ViewCorrections corrections_;           // [train view] poses and exposure maps
 };
 
 }  // namespace splat

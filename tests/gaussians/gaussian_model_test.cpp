@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
+#include <set>
 #include <vector>
 
 #include "splat/core/error.hpp"
@@ -23,6 +25,40 @@ std::vector<float> row_values(const GaussianModel& m, std::size_t row) {
   take(m.opacity_logits, 1);
   take(m.sh, std::size_t(m.sh_coefficients()) * 3);
   return out;
+}
+
+TEST(GaussianModelParameters, AccessorsApplyTheActivations) {
+  const GaussianModel m = test::random_model(5, 1, 3);
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    EXPECT_EQ(m.opacity(i), 1.0f / (1.0f + std::exp(-m.opacity_logits[i])));
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_EQ(m.mean(i)[a], m.means[3 * i + a]);
+      EXPECT_EQ(m.scale(i)[a], std::exp(m.log_scales[3 * i + a]));
+    }
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(m.quat(i)[k], m.quats[4 * i + k]);
+    // The rotation is the normalised quaternion's: orthonormal whatever the stored length.
+    const Mat3<float> r = m.rotation(i);
+    const Mat3<float> should_be_identity = glm::transpose(r) * r;
+    for (int c = 0; c < 3; ++c)
+      for (int row = 0; row < 3; ++row) EXPECT_NEAR(should_be_identity[c][row], c == row ? 1.0f : 0.0f, 1e-5f);
+  }
+}
+
+TEST(GaussianModelParameters, TheGroupsListEveryArrayOnceWithItsWidth) {
+  GaussianModel m = test::random_model(4, 2, 9);
+  std::set<const std::vector<float>*> arrays;
+  std::size_t floats = 0;
+  for (const ParameterGroup& group : kParameterGroups) {
+    EXPECT_EQ(group.of(m).size(), m.size() * group.width(m.sh_degree)) << group.name;
+    EXPECT_EQ(&parameter_group(group.id), &group);
+    arrays.insert(&group.of(m));
+    floats += group.width(m.sh_degree);
+  }
+  EXPECT_EQ(arrays.size(), 5u);
+  EXPECT_EQ(floats, m.floats_per_row());
+  // The SH degree (padded to the vectors' alignment) and these five arrays are the whole model:
+  // an array added to GaussianModel belongs in kParameterGroups too.
+  EXPECT_EQ(sizeof(GaussianModel), alignof(std::vector<float>) + 5 * sizeof(std::vector<float>));
 }
 
 TEST(GaussianModelRows, FloatsPerRowIs59AtDegree3) {

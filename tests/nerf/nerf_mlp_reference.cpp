@@ -64,7 +64,7 @@ NerfMlpSample<Scalar> forward_single(const BasicNerfMlp<Scalar>& mlp, const Scal
   const std::vector<Scalar> f = affine(params, layers[mlp.feature_layer()], h);
   const std::vector<Scalar> hidden = relu(affine(params, layers[mlp.color_layer()], concat(f, gd)));
   const std::vector<Scalar> o = affine(params, layers[mlp.rgb_layer()], hidden);
-  for (int k = 0; k < 3; ++k) out.rgb[k] = nerf_detail::sigmoid(o[k]);
+  for (int k = 0; k < 3; ++k) out.rgb[k] = sigmoid(o[k]);
   return out;
 }
 

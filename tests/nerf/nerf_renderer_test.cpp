@@ -40,10 +40,11 @@ std::vector<Ray> tiny_rays() {
 double weighted_colour(const NerfModel& model, const std::vector<Ray>& rays, bool fine,
                        const std::vector<float>& weights) {
   NerfRenderer renderer;
+  NerfForwardContext forward;
   std::mt19937 rng(0);
   const float bg[3] = {1, 1, 1};
-  renderer.forward(model, rays, bg, false, rng);
-  const auto& colour = fine ? renderer.fine_color() : renderer.coarse_color();
+  renderer.forward(model, rays, bg, false, rng, forward);
+  const auto& colour = fine ? forward.fine_color() : forward.coarse_color();
   double sum = 0;
   for (std::size_t i = 0; i < colour.size(); ++i) sum += double(weights[i]) * colour[i];
   return sum;
@@ -61,11 +62,12 @@ TEST(NerfRenderer, ParameterGradientsMatchFiniteDifferences) {
   for (float& v : w) v = normal(init);
 
   NerfRenderer renderer;
+  NerfForwardContext forward;
   std::mt19937 rng(0);
   const float bg[3] = {1, 1, 1};
-  renderer.forward(model, rays, bg, false, rng);
+  renderer.forward(model, rays, bg, false, rng, forward);
   std::vector<float> g_coarse(model.coarse.parameter_count(), 0.0f), g_fine(model.fine.parameter_count(), 0.0f);
-  renderer.backward(model, w, w, g_coarse, g_fine);
+  renderer.backward(model, forward, w, w, g_coarse, g_fine);
 
   // Float renders: a step of 1e-2 keeps rounding well below the change being measured.
   const double h = 1e-2;
@@ -98,12 +100,13 @@ TEST(NerfRenderer, EvaluationRendersPlaceTheMultiplierTimesTheCoarseSamples) {
   const std::vector<Ray> rays = tiny_rays();
   const float bg[3] = {1, 1, 1};
   NerfRenderer renderer;
+  NerfForwardContext forward;
   std::mt19937 rng(1);
-  renderer.forward(model, rays, bg, /*jitter=*/true, rng);
-  const std::size_t training = renderer.coarse_sample_count();
-  renderer.forward(model, rays, bg, /*jitter=*/false, rng);
+  renderer.forward(model, rays, bg, /*jitter=*/true, rng, forward);
+  const std::size_t training = forward.coarse_sample_count();
+  renderer.forward(model, rays, bg, /*jitter=*/false, rng, forward);
   EXPECT_GT(training, 0u);
-  EXPECT_EQ(renderer.coarse_sample_count(), 3 * training);
+  EXPECT_EQ(forward.coarse_sample_count(), 3 * training);
   // Capped at the samples a ray may have.
   settings.coarse_samples = 600;
   EXPECT_EQ(settings.coarse_samples_for(/*evaluation=*/true), kMaxNerfSamplesPerRay);
@@ -123,10 +126,11 @@ TEST(NerfRenderer, SameSeedSameColours) {
   const NerfModel model(tiny_settings(), 4);
   const std::vector<Ray> rays = tiny_rays();
   const float bg[3] = {0, 0, 0};
-  NerfRenderer a, b;
+  NerfRenderer renderer;
+  NerfForwardContext a, b;
   std::mt19937 rng_a(9), rng_b(9);
-  a.forward(model, rays, bg, true, rng_a);
-  b.forward(model, rays, bg, true, rng_b);
+  renderer.forward(model, rays, bg, true, rng_a, a);
+  renderer.forward(model, rays, bg, true, rng_b, b);
   EXPECT_EQ(a.fine_color(), b.fine_color());
   EXPECT_EQ(a.coarse_color(), b.coarse_color());
 }

@@ -21,9 +21,6 @@ constexpr float kSmallGrad = 1e-5f;  // well below it
 const float kSmallLogScale = std::log(0.005f);  // below percent_dense · extent = 0.01: clone
 const float kLargeLogScale = std::log(0.05f);   // above it: split
 
-float logit(float opacity) { return std::log(opacity / (1.0f - opacity)); }
-float sigmoid(float x) { return 1.0f / (1.0f + std::exp(-x)); }
-
 // A model, Adam moments that are non-zero and distinct per row, and density control over
 // them. Opacity logits are distinct per row (2 + i/100), so rows can be recognised after
 // they move.

@@ -12,9 +12,6 @@
 namespace splat {
 namespace {
 
-float logit(float p) { return std::log(p / (1.0f - p)); }
-float sigmoid(float x) { return 1.0f / (1.0f + std::exp(-x)); }
-
 TEST(Relocation, OneCopyIsTheGaussianItself) {
   for (float o : {0.01f, 0.3f, 0.9f}) {
     const RelocatedShape shape = relocated_shape(o, 1, 0.005f);

@@ -18,8 +18,6 @@ namespace {
 
 constexpr float kExtent = 1.0f;
 
-float logit(float p) { return std::log(p / (1.0f - p)); }
-
 // A model whose rows carry an identity tag in their last SH coefficient (copied by every row
 // operation, untouched by splits), with Adam moments derived from the tag, so a test can tell
 // whether each row's moments are its own.

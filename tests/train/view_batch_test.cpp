@@ -271,7 +271,7 @@ TEST(SplatTrainer, ABatchStepTakesTheMeanOfItsViewsGradients) {
     if (expected.size() == 0) expected = grads.params;
     else expected.add(grads.params);
   }
-  expected.scale(0.5f);
+  expected.multiply(0.5f);
   EXPECT_EQ(flat(trainer.last_step_gradient()), flat(expected));
   EXPECT_NE(flat(expected), std::vector<float>(flat(expected).size(), 0.0f));
 
