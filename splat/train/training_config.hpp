@@ -1,22 +1,19 @@
 #pragma once
 // Every setting of the Gaussian-splatting trainer in one struct with the official 3DGS
 // defaults. The command line fills it; it is written beside every output (config.json) and
-// into checkpoints, so a run can be reproduced and resumed.
+// into checkpoints, so a run can be reproduced and resumed. Its table of keys and ranges
+// (training_config.cpp, splat/core/settings_table.hpp) reads, writes and validates it.
 #include <cstddef>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "splat/optim/density_control.hpp"
-#include "splat/train/compact_settings.hpp"
 #include "splat/raster/rasterizer.hpp"
+#include "splat/train/compact_settings.hpp"
+#include "splat/train/training_limits.hpp"
 
 namespace splat {
 
-// Limits of the settings (docs/DESIGN.md §4.7): far beyond any real run, they rule out values
-// that would overflow a counter, stop a run from ever ending, or allocate without bound.
-constexpr int kMaxTrainingIterations = 10'000'000;
-constexpr double kMaxTrainingSeconds = 30.0 * 24 * 3600;  // 30 days
-constexpr double kMaxLearningRate = 1.0;
 // Starting points of a random initialisation: with its optimiser state a Gaussian takes
 // about 1 KB, so this keeps the start under 1 GB.
 constexpr double kMaxRandomInitPoints = 1'000'000;
@@ -166,6 +163,12 @@ inline const char* const kSplatStrategies[] = {"compact", "official"};
 
 // Every setting at the defaults of `strategy`; ArgumentError for an unknown name.
 SplatTrainingConfig splat_training_preset(const std::string& strategy);
+
+// Throws ArgumentError naming the first setting outside its range (the table's, the same a
+// config file is read with) or at odds with another (random_init_near not below
+// random_init_far, iterations not a multiple of the batch, a batch with pose refinement or
+// exposure compensation). The trainer and initial_model call it.
+void validate(const SplatTrainingConfig& config);
 
 nlohmann::json to_json(const SplatTrainingConfig& config);
 // Reads the fields present in `json` over `config` (defaults for the rest); throws
