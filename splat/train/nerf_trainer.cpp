@@ -15,6 +15,7 @@
 #include "splat/core/random.hpp"
 #include "splat/core/settings_table.hpp"
 #include "splat/nerf/nerf_file.hpp"
+#include "splat/optim/lr_schedule.hpp"
 #include "splat/train/training_support.hpp"
 
 namespace splat {
@@ -68,8 +69,7 @@ double NerfTrainer::schedule_progress() const {
 
 float NerfTrainer::learning_rate() const {
   // Log-linear from lr_init to lr_final over the run, as the paper's exponential decay.
-  const double progress = schedule_progress();
-  return float(std::exp(std::log(config_.lr_init) * (1 - progress) + std::log(config_.lr_final) * progress));
+  return float(ExponentialLrSchedule{config_.lr_init, config_.lr_final, 1}.at_fraction(schedule_progress()));
 }
 
 void NerfTrainer::update_occupancy() {
