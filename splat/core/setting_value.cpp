@@ -10,4 +10,9 @@ std::string format_setting_number(double value) {
   return text;
 }
 
+std::string setting_range_text(bool whole, const SettingRange& range) {
+  return std::string(whole ? "a whole number" : "a number") + " from " + format_setting_number(range.lo) + " to " +
+         format_setting_number(range.hi);
+}
+
 }  // namespace splat

@@ -22,6 +22,9 @@ struct SettingRange {
 
 std::string format_setting_number(double value);
 
+// "a whole number from LO to HI" or "a number from LO to HI".
+std::string setting_range_text(bool whole, const SettingRange& range);
+
 // `value` as a T, or ArgumentError `"key" must be …`.
 template <class T>
 T read_setting(const nlohmann::json& value, const std::string& key, const SettingRange& range) {
@@ -31,15 +34,24 @@ T read_setting(const nlohmann::json& value, const std::string& key, const Settin
   } else {
     static_assert(std::is_arithmetic_v<T>);
     constexpr bool whole = std::is_integral_v<T>;
-    const std::string wanted = std::string(whole ? "a whole number" : "a number") + " from " +
-                               format_setting_number(range.lo) + " to " +
-                               format_setting_number(range.hi);
+    const std::string wanted = setting_range_text(whole, range);
     if (!value.is_number()) throw ArgumentError("\"" + key + "\" must be " + wanted + ", not " + value.dump());
     const double v = value.get<double>();
     if (!std::isfinite(v) || v < range.lo || v > range.hi || (whole && v != std::floor(v)))
       throw ArgumentError("\"" + key + "\" must be " + wanted + " (got " + value.dump() + ")");
     return static_cast<T>(v);
   }
+}
+
+// The same check on a value already in a struct (set by the command line or by code):
+// ArgumentError `"key" must be … (got V)` when it is outside `range` or not finite.
+template <class T>
+void check_setting_value(T value, const std::string& key, const SettingRange& range) {
+  static_assert(std::is_arithmetic_v<T> && !std::is_same_v<T, bool>);
+  const double v = double(value);
+  if (!std::isfinite(v) || v < range.lo || v > range.hi)
+    throw ArgumentError("\"" + key + "\" must be " + setting_range_text(std::is_integral_v<T>, range) + " (got " +
+                        format_setting_number(v) + ")");
 }
 
 }  // namespace splat

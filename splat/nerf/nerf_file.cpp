@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <initializer_list>
 #include <string>
 #include <cstring>
 #include <fstream>
@@ -11,8 +10,6 @@
 #include "splat/core/atomic_file.hpp"
 #include "splat/core/json_file.hpp"
 #include "splat/core/error.hpp"
-#include "splat/core/setting_value.hpp"
-#include "splat/nerf/positional_encoding.hpp"
 
 namespace splat {
 
@@ -20,50 +17,6 @@ namespace {
 
 constexpr char kMagic[8] = {'S', 'P', 'L', 'A', 'T', 'N', 'R', 'F'};
 constexpr std::uint64_t kMaxArray = std::uint64_t(1) << 32;
-
-nlohmann::json mlp_json(const NerfMlpConfig& c) {
-  return {{"position_frequencies", c.position_frequencies},
-          {"direction_frequencies", c.direction_frequencies},
-          {"depth", c.depth}, {"width", c.width}, {"skip_layer", c.skip_layer},
-          {"color_width", c.color_width},
-          {"density_activation", c.density_activation == DensityActivation::kRelu ? "relu" : "softplus"}};
-}
-
-// Throws ArgumentError naming the first key of `j` that is not in `known`.
-void require_known_keys(const nlohmann::json& j, const std::string& where,
-                        std::initializer_list<const char*> known) {
-  if (!j.is_object()) throw ArgumentError(where + " must be a JSON object");
-  for (const auto& item : j.items())
-    if (std::none_of(known.begin(), known.end(), [&](const char* k) { return item.key() == k; }))
-      throw ArgumentError("unknown NeRF setting \"" + where + "." + item.key() + "\"");
-}
-
-template <class T>
-T setting(const nlohmann::json& j, const std::string& where, const char* key, const SettingRange& range) {
-  const auto it = j.find(key);
-  if (it == j.end()) throw ArgumentError("\"" + where + "." + key + "\" is missing");
-  return read_setting<T>(*it, where + "." + key, range);
-}
-
-NerfMlpConfig mlp_from_json(const nlohmann::json& j, const std::string& where) {
-  require_known_keys(j, where, {"position_frequencies", "direction_frequencies", "depth", "width",
-                                "skip_layer", "color_width", "density_activation"});
-  NerfMlpConfig c;
-  const SettingRange frequencies{0, kMaxEncodingFrequencies};
-  c.position_frequencies = setting<int>(j, where, "position_frequencies", frequencies);
-  c.direction_frequencies = setting<int>(j, where, "direction_frequencies", frequencies);
-  c.depth = setting<int>(j, where, "depth", {1, kMaxNerfDepth});
-  c.width = setting<int>(j, where, "width", {1, kMaxNerfWidth});
-  c.skip_layer = setting<int>(j, where, "skip_layer", {-1, kMaxNerfDepth - 1});
-  c.color_width = setting<int>(j, where, "color_width", {1, kMaxNerfWidth});
-  const auto activation = j.find("density_activation");
-  if (activation == j.end() || !activation->is_string() ||
-      (*activation != "relu" && *activation != "softplus"))
-    throw ArgumentError("\"" + where + ".density_activation\" must be \"relu\" or \"softplus\"");
-  c.density_activation = *activation == "relu" ? DensityActivation::kRelu : DensityActivation::kSoftplus;
-  validate(c);
-  return c;
-}
 
 template <class T>
 void write_array(std::ostream& out, std::span<const T> values) {
@@ -89,52 +42,29 @@ std::vector<T> read_array(std::istream& in, const std::filesystem::path& file, c
 
 }  // namespace
 
-nlohmann::json nerf_settings_json(const NerfSettings& s) {
-  return {{"coarse", mlp_json(s.coarse)}, {"fine", mlp_json(s.fine)},
-          {"coarse_samples", s.coarse_samples}, {"fine_samples", s.fine_samples},
-          {"render_sample_multiplier", s.render_sample_multiplier},
-          {"box_min", {s.box.lo.x, s.box.lo.y, s.box.lo.z}},
-          {"box_max", {s.box.hi.x, s.box.hi.y, s.box.hi.z}}, {"unbounded", s.unbounded},
-          {"near", s.near}, {"occupancy_resolution", s.occupancy_resolution},
-          {"occupancy_optical_thickness", s.occupancy_optical_thickness}};
+nlohmann::json nerf_settings_json(const NerfSettings& s) { return settings_json(s); }
+
+NerfSettings read_nerf_settings(const nlohmann::json& j, SettingsReading how) {
+  // Older files lack render_sample_multiplier (they render with 1, the value before it) and
+  // unbounded (false), or give the density threshold itself (occupancy_threshold) instead of
+  // the optical thickness; every file adds the networks' parameter counts, which the reader
+  // compares with the arrays.
+  const bool threshold = j.is_object() && j.contains("occupancy_threshold");
+  how.optional = {"render_sample_multiplier", "unbounded"};
+  if (threshold) how.optional.push_back("occupancy_optical_thickness");
+  how.ignored = {"occupancy_threshold", "coarse_parameters", "fine_parameters"};
+  NerfSettings s;
+  s.render_sample_multiplier = 1;
+  read_settings(j, s, how);
+  if (threshold)
+    s.occupancy_optical_thickness =
+        read_setting<float>(j.at("occupancy_threshold"), how.path + ".occupancy_threshold", {0, 1e6}) * s.coarse_step();
+  validate(s, how.path);
+  return s;
 }
 
 NerfSettings nerf_settings_from_json(const nlohmann::json& j) {
-  const std::string where = "model";
-  require_known_keys(j, where, {"coarse", "fine", "coarse_samples", "fine_samples", "render_sample_multiplier", "box_min", "box_max",
-                                "unbounded", "near", "occupancy_resolution", "occupancy_optical_thickness",
-                                "occupancy_threshold", "coarse_parameters", "fine_parameters"});
-  NerfSettings s;
-  if (!j.contains("coarse") || !j.contains("fine")) throw ArgumentError("\"model.coarse\" and \"model.fine\" are needed");
-  s.coarse = mlp_from_json(j.at("coarse"), where + ".coarse");
-  s.fine = mlp_from_json(j.at("fine"), where + ".fine");
-  s.coarse_samples = setting<int>(j, where, "coarse_samples", {1, kMaxNerfSamplesPerRay});
-  s.fine_samples = setting<int>(j, where, "fine_samples", {0, kMaxNerfSamplesPerRay});
-  // Absent in files from before it: they render as they always did.
-  s.render_sample_multiplier = 1;
-  if (j.contains("render_sample_multiplier"))
-    s.render_sample_multiplier = setting<int>(j, where, "render_sample_multiplier", {1, kMaxNerfRenderSampleMultiplier});
-  const SettingRange coordinate{-kMaxNerfCoordinate, kMaxNerfCoordinate};
-  for (const char* key : {"box_min", "box_max"}) {
-    const auto it = j.find(key);
-    if (it == j.end() || !it->is_array() || it->size() != 3)
-      throw ArgumentError("\"" + where + "." + key + "\" needs 3 numbers");
-    glm::vec3& corner = std::string(key) == "box_min" ? s.box.lo : s.box.hi;
-    for (int a = 0; a < 3; ++a) corner[a] = read_setting<float>((*it)[std::size_t(a)], where + "." + key, coordinate);
-  }
-  if (!(s.box.lo.x < s.box.hi.x && s.box.lo.y < s.box.hi.y && s.box.lo.z < s.box.hi.z))
-    throw ArgumentError("\"model.box_min\" must be below \"model.box_max\" on every axis");
-  // Absent in files from before unbounded scenes.
-  if (j.contains("unbounded")) s.unbounded = read_setting<bool>(j.at("unbounded"), where + ".unbounded", {});
-  s.near = setting<float>(j, where, "near", {0, kMaxNerfCoordinate});
-  s.occupancy_resolution = setting<int>(j, where, "occupancy_resolution", {1, kMaxOccupancyResolution});
-  // Files and configs from before the optical thickness gave the density threshold itself.
-  if (j.contains("occupancy_threshold"))
-    s.occupancy_optical_thickness =
-        setting<float>(j, where, "occupancy_threshold", {0, 1e6}) * s.coarse_step();
-  else
-    s.occupancy_optical_thickness = setting<float>(j, where, "occupancy_optical_thickness", {0, 1e6});
-  return s;
+  return read_nerf_settings(j, {.path = "model", .unknown = "unknown NeRF setting", .every_key = true});
 }
 
 void write_nerf_to(std::ostream& out, const NerfModel& model) {

@@ -17,6 +17,7 @@
 #include <iosfwd>
 #include <nlohmann/json.hpp>
 
+#include "splat/core/settings_table.hpp"
 #include "splat/nerf/nerf_model.hpp"
 
 namespace splat {
@@ -34,6 +35,9 @@ NerfModel read_nerf_from(std::istream& in, const std::filesystem::path& file);
 // The settings header as JSON, and back (ArgumentError or json exceptions on bad values).
 nlohmann::json nerf_settings_json(const NerfSettings& settings);
 NerfSettings nerf_settings_from_json(const nlohmann::json& json);
+// The same, as a section of a config (`how` names it in errors): every key needed but those
+// older files lack; validated.
+NerfSettings read_nerf_settings(const nlohmann::json& json, SettingsReading how);
 
 // Whether `file` starts with the model.nerf magic (splat-render picks the reader by content).
 bool is_nerf_file(const std::filesystem::path& file);

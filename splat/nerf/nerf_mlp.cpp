@@ -14,6 +14,7 @@
 
 #include "splat/core/error.hpp"
 #include "splat/core/random.hpp"
+#include "splat/core/settings_table.hpp"
 #include "splat/nerf/dense_layer.hpp"
 #include "splat/nerf/positional_encoding.hpp"
 
@@ -97,22 +98,12 @@ void require(bool ok, const std::string& message) {
 
 }  // namespace
 
-void validate(const NerfMlpConfig& c) {
-  const auto check = [](bool ok, const char* what) {
-    if (!ok) throw ArgumentError(std::string("NeRF MLP config: ") + what);
-  };
-  check(c.position_frequencies >= 0 && c.position_frequencies <= kMaxEncodingFrequencies,
-        "position_frequencies must be in [0, 24]");
-  check(c.direction_frequencies >= 0 && c.direction_frequencies <= kMaxEncodingFrequencies,
-        "direction_frequencies must be in [0, 24]");
-  check(c.depth >= 1, "depth must be at least 1");
-  check(c.width >= 1 && c.color_width >= 1, "width and color_width must be positive");
+void validate(const NerfMlpConfig& c, const std::string& path) {
+  check_setting_ranges(c, path);
   // Layer 0 already takes γ(x) alone; a skip there would only duplicate its input.
-  check(c.skip_layer == -1 || (c.skip_layer >= 1 && c.skip_layer < c.depth),
-        "skip_layer must be -1 or in [1, depth - 1]");
-  check(c.density_activation == DensityActivation::kSoftplus ||
-            c.density_activation == DensityActivation::kRelu,
-        "unknown density activation");
+  if (!(c.skip_layer == -1 || (c.skip_layer >= 1 && c.skip_layer < c.depth)))
+    throw ArgumentError("\"" + (path.empty() ? "" : path + ".") + "skip_layer\" must be -1 or from 1 to depth - 1 (got " +
+                        std::to_string(c.skip_layer) + ")");
 }
 
 template <typename Scalar>

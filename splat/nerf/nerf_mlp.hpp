@@ -34,9 +34,17 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
+#include "splat/core/setting_value.hpp"
+#include "splat/nerf/positional_encoding.hpp"
+
 namespace splat {
+
+// The largest network (docs/DESIGN.md §4.5): ~16M parameters (64 MB).
+constexpr int kMaxNerfDepth = 16;
+constexpr int kMaxNerfWidth = 1024;
 
 enum class DensityActivation { kSoftplus, kRelu };
 
@@ -52,8 +60,23 @@ struct NerfMlpConfig {
   bool operator==(const NerfMlpConfig&) const = default;
 };
 
-// Throws ArgumentError naming the first setting out of range.
-void validate(const NerfMlpConfig& config);
+// The network's settings as a .nerf or config file spells them (splat/core/settings_table.hpp).
+template <class Table>
+void describe_settings(Table& t, NerfMlpConfig& c) {
+  const SettingRange frequencies{0, kMaxEncodingFrequencies};
+  t.number("position_frequencies", c.position_frequencies, frequencies);
+  t.number("direction_frequencies", c.direction_frequencies, frequencies);
+  t.number("depth", c.depth, {1, kMaxNerfDepth});
+  t.number("width", c.width, {1, kMaxNerfWidth});
+  t.number("skip_layer", c.skip_layer, {-1, kMaxNerfDepth - 1});
+  t.number("color_width", c.color_width, {1, kMaxNerfWidth});
+  t.choice("density_activation", c.density_activation,
+           {{"relu", DensityActivation::kRelu}, {"softplus", DensityActivation::kSoftplus}});
+}
+
+// Throws ArgumentError naming the first setting out of range ("path.key" under a `path`),
+// or a skip layer that is neither −1 nor within the trunk.
+void validate(const NerfMlpConfig& config, const std::string& path = "");
 
 // One affine layer inside the parameter vector: W [out, in] column-major at `offset`,
 // then b [out] at offset + out·in.

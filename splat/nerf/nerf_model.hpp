@@ -4,18 +4,18 @@
 // (rendering must use the same ones). Saved as model.nerf (nerf_file.hpp).
 #include <algorithm>
 #include <cstdint>
+#include <string>
 
 #include "splat/nerf/nerf_mlp.hpp"
 #include "splat/nerf/occupancy_grid.hpp"
 #include "splat/core/rays.hpp"
+#include "splat/core/setting_value.hpp"
 #include "splat/nerf/scene_space.hpp"
 
 namespace splat {
 
 // Limits of the settings (docs/DESIGN.md §4.5), checked when a config or a .nerf file is
-// read. A network of the largest depth and width has ~16M parameters (64 MB).
-constexpr int kMaxNerfDepth = 16;
-constexpr int kMaxNerfWidth = 1024;
+// read (the networks' own: nerf_mlp.hpp).
 constexpr int kMaxNerfSamplesPerRay = 1024;  // coarse (also × render_sample_multiplier), and importance samples
 constexpr int kMaxNerfRenderSampleMultiplier = 16;
 constexpr float kMaxNerfCoordinate = 1e6f;   // box corners and the near distance
@@ -62,6 +62,28 @@ struct NerfSettings {
   // σ below which a cell is empty: occupancy_optical_thickness / coarse_step().
   float occupancy_density_threshold() const { return occupancy_optical_thickness / coarse_step(); }
 };
+
+// The settings as the header of a .nerf file and the `model` section of a NeRF config spell
+// them (splat/core/settings_table.hpp; older files: nerf_file.cpp).
+template <class Table>
+void describe_settings(Table& t, NerfSettings& s) {
+  const SettingRange coordinate{-kMaxNerfCoordinate, kMaxNerfCoordinate};
+  t.section("coarse", s.coarse);
+  t.section("fine", s.fine);
+  t.number("coarse_samples", s.coarse_samples, {1, kMaxNerfSamplesPerRay});
+  t.number("fine_samples", s.fine_samples, {0, kMaxNerfSamplesPerRay});
+  t.number("render_sample_multiplier", s.render_sample_multiplier, {1, kMaxNerfRenderSampleMultiplier});
+  t.triple("box_min", s.box.lo, coordinate);
+  t.triple("box_max", s.box.hi, coordinate);
+  t.flag("unbounded", s.unbounded);
+  t.number("near", s.near, {0, kMaxNerfCoordinate});
+  t.number("occupancy_resolution", s.occupancy_resolution, {1, kMaxOccupancyResolution});
+  t.number("occupancy_optical_thickness", s.occupancy_optical_thickness, {0, 1e6});
+}
+
+// Throws ArgumentError naming the first setting ("path.key") out of its range, a box that is
+// empty on some axis, or a network's bad skip layer.
+void validate(const NerfSettings& settings, const std::string& path = "model");
 
 struct NerfModel {
   NerfSettings settings;

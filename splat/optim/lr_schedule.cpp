@@ -17,8 +17,4 @@ double ExponentialLrSchedule::at_fraction(double t) const {
   return std::exp(std::log(lr_init) * (1.0 - t) + std::log(lr_final) * t);
 }
 
-ExponentialLrSchedule position_lr_schedule(float scene_extent) {
-  return {kPositionLrInit * scene_extent, kPositionLrFinal * scene_extent, kPositionLrMaxSteps};
-}
-
 }  // namespace splat

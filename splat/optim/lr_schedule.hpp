@@ -1,5 +1,7 @@
 #pragma once
-// Learning-rate schedules of the official trainer.
+// The learning-rate schedule of the official trainer, which both trainers use: the splats'
+// position rate (its end points are settings, training_config.hpp), their appearance and pose
+// decays, and the NeRF's rate.
 namespace splat {
 
 // The official get_expon_lr_func without the delay phase (lr_delay_steps 0, its setting for
@@ -16,13 +18,5 @@ struct ExponentialLrSchedule {
   // at_fraction(step / max_steps) for steps ≥ 0.
   double at_fraction(double t) const;
 };
-
-// Position learning rate, scaled by the scene extent (spatial_lr_scale): 1.6e-4·extent
-// decaying to 1.6e-6·extent over 30000 steps. The official trainer evaluates it at the
-// iteration number (counting from 1) before each step.
-constexpr double kPositionLrInit = 1.6e-4;
-constexpr double kPositionLrFinal = 1.6e-6;
-constexpr int kPositionLrMaxSteps = 30000;
-ExponentialLrSchedule position_lr_schedule(float scene_extent);
 
 }  // namespace splat

@@ -49,19 +49,6 @@ GaussianModel frusta_model(const Dataset& dataset, const SplatTrainingConfig& co
   return initialize_from_points(cloud, config.sh_degree);
 }
 
-void check_settings(const SplatTrainingConfig& c) {
-  const auto fail = [](const std::string& what) { throw ArgumentError("random initialisation: " + what); };
-  if (c.random_init_points == 0) fail("random_init_points must be at least 1");
-  if (!(c.random_init_half_extent >= 0.0f && std::isfinite(c.random_init_half_extent)))
-    fail("random_init_half_extent must be finite and >= 0 (0 = placed by the cameras)");
-  if (!(c.random_init_near > 0.0f && c.random_init_near < c.random_init_far && std::isfinite(c.random_init_far)))
-    fail("needs 0 < random_init_near < random_init_far (finite), not " + std::to_string(c.random_init_near) +
-         " and " + std::to_string(c.random_init_far));
-  if (c.random_init_depth_candidates < 1) fail("random_init_depth_candidates must be at least 1");
-  if (!(c.random_init_shell_fraction >= 0.0f && c.random_init_shell_fraction <= 1.0f))
-    fail("random_init_shell_fraction must be in [0, 1]");
-}
-
 }  // namespace
 
 nlohmann::json to_json(const InitialisationReport& r) {
@@ -87,7 +74,7 @@ GaussianModel initial_model(const Dataset& dataset, const SplatTrainingConfig& c
   InitialisationReport local;
   InitialisationReport& r = report ? *report : local;
   r = {};
-  check_settings(config);
+  validate(config);
   const std::size_t budget = config.density.max_gaussians;
   if (dataset.points && dataset.points->size() > 0) {
     r.kind = "points";

@@ -48,9 +48,8 @@ nlohmann::json to_json(const InitialisationReport& report);
 //   random_init_far·D round the focus, over the part the views see, coloured as the views
 //   see it. Without a focus (parallel or outward axes) D is the cameras' spread (the scene
 //   extent) and the centre their mean.
-// Everything random is drawn from config.seed. ArgumentError naming the setting for
-// random_init_points 0, a negative half extent, near and far out of order, fewer than one
-// depth candidate, or a shell fraction outside [0, 1].
+// Everything random is drawn from config.seed. The config is validated first
+// (validate(SplatTrainingConfig): ArgumentError naming the setting).
 GaussianModel initial_model(const Dataset& dataset, const SplatTrainingConfig& config,
                             InitialisationReport* report = nullptr);
 

@@ -13,8 +13,9 @@
 #include "splat/core/atomic_file.hpp"
 #include "splat/core/json_file.hpp"
 #include "splat/core/random.hpp"
-#include "splat/core/setting_value.hpp"
+#include "splat/core/settings_table.hpp"
 #include "splat/nerf/nerf_file.hpp"
+#include "splat/optim/lr_schedule.hpp"
 #include "splat/train/training_support.hpp"
 
 namespace splat {
@@ -48,68 +49,8 @@ void read_floats(std::istream& in, std::span<float> v, const std::filesystem::pa
 
 }  // namespace
 
-nlohmann::json to_json(const NerfTrainingConfig& c) {
-  return {{"method", "nerf"},
-          {"iterations", c.iterations}, {"max_seconds", c.max_seconds},
-          {"background", {c.background[0], c.background[1], c.background[2]}},
-          {"seed", c.seed}, {"rays_per_batch", c.rays_per_batch},
-          {"lr_init", c.lr_init}, {"lr_final", c.lr_final}, {"lr_decay_iterations", c.lr_decay_iterations},
-          {"schedule_follows_budget", c.schedule_follows_budget},
-          {"parameter_average_decay", c.parameter_average_decay},
-          {"density_bias_init", c.density_bias_init},
-          {"occupancy_warmup", c.occupancy_warmup}, {"occupancy_interval", c.occupancy_interval},
-          {"occupancy_cells_per_update", c.occupancy_cells_per_update},
-          {"test_interval", c.test_interval}, {"checkpoint_interval", c.checkpoint_interval},
-          {"box_from_data", c.box_from_data}, {"model", nerf_settings_json(c.model)}};
-}
-
-void from_json(const nlohmann::json& j, NerfTrainingConfig& c) {
-  if (!j.is_object()) throw ArgumentError("the NeRF config must be a JSON object");
-  std::optional<bool> box_from_data;  // said outright, it wins over a box in "model"
-  const SettingRange iterations{0, kMaxTrainingIterations};
-  const SettingRange rate{1e-12, kMaxLearningRate};  // log-linear: log(0) is not a rate
-  for (const auto& [key, value] : j.items()) {
-    try {
-      if (key == "method") {
-        if (value != "nerf") throw ArgumentError("\"method\" is " + value.dump() + " in a NeRF config");
-      } else if (key == "iterations") c.iterations = read_setting<int>(value, key, {1, kMaxTrainingIterations});
-      else if (key == "max_seconds") c.max_seconds = read_setting<double>(value, key, {0, kMaxTrainingSeconds});
-      else if (key == "background") {
-        if (!value.is_array() || value.size() != 3) throw ArgumentError("\"background\" needs 3 numbers");
-        for (int i = 0; i < 3; ++i) c.background[i] = read_setting<float>(value[std::size_t(i)], key, {0, 1});
-      } else if (key == "seed") c.seed = read_setting<unsigned>(value, key, {0, 4294967295.0});
-      else if (key == "rays_per_batch") c.rays_per_batch = read_setting<int>(value, key, {1, kMaxNerfRaysPerBatch});
-      else if (key == "lr_init") c.lr_init = read_setting<double>(value, key, rate);
-      else if (key == "lr_final") c.lr_final = read_setting<double>(value, key, rate);
-      else if (key == "lr_decay_iterations") c.lr_decay_iterations = read_setting<int>(value, key, {1, kMaxTrainingIterations});
-      else if (key == "schedule_follows_budget") c.schedule_follows_budget = read_setting<bool>(value, key, {});
-      else if (key == "parameter_average_decay") c.parameter_average_decay = read_setting<float>(value, key, {0, 0.99999});
-      else if (key == "density_bias_init") c.density_bias_init = read_setting<float>(value, key, {-100, 100});
-      else if (key == "occupancy_warmup") c.occupancy_warmup = read_setting<int>(value, key, iterations);
-      else if (key == "occupancy_interval") c.occupancy_interval = read_setting<int>(value, key, {1, kMaxTrainingIterations});
-      else if (key == "occupancy_cells_per_update")
-        c.occupancy_cells_per_update = read_setting<std::size_t>(value, key, {0, 16'777'216});  // 256³
-      else if (key == "test_interval") c.test_interval = read_setting<int>(value, key, iterations);
-      else if (key == "checkpoint_interval") c.checkpoint_interval = read_setting<int>(value, key, iterations);
-      else if (key == "box_from_data") box_from_data = read_setting<bool>(value, key, {});
-      else if (key == "model") {
-        if (value.is_object() && (value.contains("box_min") || value.contains("box_max") || value.contains("unbounded")))
-          c.box_from_data = false;
-        nlohmann::json merged = nerf_settings_json(c.model);
-        merged.merge_patch(value);
-        c.model = nerf_settings_from_json(merged);
-      } else {
-        throw ArgumentError("unknown NeRF setting \"" + key + "\"");
-      }
-    } catch (const nlohmann::json::exception& e) {
-      throw ArgumentError("NeRF setting \"" + key + "\": " + json_error_text(e));
-    }
-  }
-  if (box_from_data) c.box_from_data = *box_from_data;
-}
-
 NerfTrainer::NerfTrainer(const Dataset& dataset, const NerfTrainingConfig& config)
-    : dataset_(dataset), config_(config), model_(config.model, config.seed), averaged_(model_),
+    : dataset_(dataset), config_(validated(config)), model_(config.model, config.seed), averaged_(model_),
       last_good_model_(model_), coarse_adam_(model_.coarse.parameter_count()),
       fine_adam_(model_.fine.parameter_count()), rng_(config.seed) {
   if (dataset.train.empty()) throw ArgumentError("training needs at least one training view");
@@ -128,8 +69,7 @@ double NerfTrainer::schedule_progress() const {
 
 float NerfTrainer::learning_rate() const {
   // Log-linear from lr_init to lr_final over the run, as the paper's exponential decay.
-  const double progress = schedule_progress();
-  return float(std::exp(std::log(config_.lr_init) * (1 - progress) + std::log(config_.lr_final) * progress));
+  return float(ExponentialLrSchedule{config_.lr_init, config_.lr_final, 1}.at_fraction(schedule_progress()));
 }
 
 void NerfTrainer::update_occupancy() {

@@ -14,70 +14,13 @@
 #include "splat/nerf/nerf_renderer.hpp"
 #include "splat/optim/flat_adam.hpp"
 #include "splat/train/evaluation.hpp"
+#include "splat/train/nerf_training_config.hpp"
 #include "splat/train/step_result.hpp"
-#include "splat/train/training_config.hpp"
 
 namespace splat {
 
-// The iteration limit of a NeRF run with a time budget and no iteration count of its own.
-constexpr int kNerfIterationsUnderBudget = kMaxTrainingIterations;
 // Where in the rate's decay the parameter average starts (parameter_average_decay).
 constexpr double kAverageFromProgress = 0.5;
-// The largest batch: its samples' activations grow with it (docs/DESIGN.md §4.7).
-constexpr int kMaxNerfRaysPerBatch = 16384;
-
-struct NerfTrainingConfig {
-  int iterations = 20000;
-  double max_seconds = 0;  // wall-clock limit, 0 = none; whichever ends first
-  float background[3] = {1, 1, 1};
-  unsigned seed = 0;
-  int rays_per_batch = 1024;
-  // Exponential decay from lr_init to lr_final over lr_decay_iterations (then held), a
-  // horizon of its own so that --iters and --resume do not change the schedule. With a time
-  // budget and schedule_follows_budget, the decay runs over the budget instead (the fraction
-  // of it spent), so a run of any length ends at lr_final, and a long one at its end: taking
-  // the iterations' fraction when further along held lego400's 30-minute run (45k
-  // iterations) at lr_final from 20k on, where its loss stopped falling. Ten times
-  // the paper's rates: with a batch of 1,024 rays they reach a given PSNR in a fraction of
-  // the time and stay stable (probes in bench/README.md, P4).
-  double lr_init = 5e-3, lr_final = 2.5e-4;
-  int lr_decay_iterations = 20000;
-  bool schedule_follows_budget = true;
-  // The density output's bias at initialisation (both networks). With 0 (a Glorot network's
-  // zero bias) the untrained field is a fog of σ ≈ 0.7 that turns every ray grey; clearing it
-  // is the first thing training does, with large gradients that drive the softplus deep into
-  // its flat tail and inflate Adam's second moments, after which thin structures against a
-  // bright background never get drawn (thin_structures stayed at the background's PSNR).
-  // At −3 (σ ≈ 0.05 per unit) the field starts nearly transparent: there is no fog to clear
-  // and density grows only where the photographs ask for it (bench/README.md, issue 16).
-  float density_bias_init = -3.0f;
-  // Iterations before the grid first prunes. Early, since it only drops cells fainter than
-  // the mean (occupancy_grid.hpp): lego400 scores the same at 3,000 iterations as with 256,
-  // and a model is cheap to score from the start.
-  int occupancy_warmup = 16;
-  int occupancy_interval = 16;             // iterations between grid updates
-  std::size_t occupancy_cells_per_update = 1 << 16;
-  // The model a run scores and saves is an exponential moving average of the parameters
-  // Adam steps through (Polyak averaging): the last steps, even at lr_final, scatter the
-  // networks around the minimum by their gradient noise, and their mean sits nearer to it.
-  // From halfway through the rate's decay (kAverageFromProgress) each step moves the average
-  // (1 − this) of the way to the parameters, so it spans the last ~1/(1 − this) steps; before
-  // that it is the parameters. 0 = off (the model is Adam's iterate). lego400, 15-minute runs,
-  // the average against the iterate of the same run: bench/README.md, issue 16.
-  float parameter_average_decay = 0.998f;
-  int test_interval = 2000;       // iterations between test evaluations (0 = end only)
-  int checkpoint_interval = 5000;  // iterations between checkpoints (0 = none)
-  // Where rays sample follows the dataset (the cameras, or the point cloud:
-  // nerf_scene_space.hpp) rather than model.box. A config that sets the model's box_min,
-  // box_max or unbounded turns this off (an explicit box is kept as given) unless it also
-  // says box_from_data, as the config.json a run writes does.
-  bool box_from_data = true;
-  NerfSettings model;
-};
-
-nlohmann::json to_json(const NerfTrainingConfig& config);
-// Reads the fields present over `config`; ArgumentError naming an unknown key or bad value.
-void from_json(const nlohmann::json& json, NerfTrainingConfig& config);
 
 class NerfTrainer {
  public:

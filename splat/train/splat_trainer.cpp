@@ -6,6 +6,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
+#include "splat/core/settings_table.hpp"
 #include "splat/data/resample.hpp"
 #include "splat/optim/lr_schedule.hpp"
 #include "splat/optim/step_events.hpp"
@@ -30,12 +31,10 @@ using training::ms_since;
 
 SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& config)
     : dataset_(dataset),
-      config_(config),
+      config_(validated(config)),
       scene_extent_(dataset.scene_extent),
       model_(initial_model(dataset, config, &initialisation_)),
       rng_(config.seed) {
-  if (!(config_.far_position_step_exponent >= 0.0f && std::isfinite(config_.far_position_step_exponent)))
-    throw ArgumentError("far_position_step_exponent must be finite and >= 0");
   // Only where the scene may reach any distance and its far content starts at random depths
   // (initial_model.hpp, "frusta"): a point cloud starts far content at its depth, and an
   // object in a cube has none.
@@ -43,37 +42,12 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
     far_steps_ = {initialisation_.centre, initialisation_.distance, initialisation_.far,
                   config_.far_position_step_exponent};
   if (dataset.train.empty()) throw ArgumentError("training needs at least one training view");
-  if (config_.batch < 1 || config_.batch > kMaxBatchViews)
-    throw ArgumentError("batch " + std::to_string(config_.batch) + " is outside [1, " +
-                        std::to_string(kMaxBatchViews) + "]");
-  if (config_.iterations % config_.batch != 0)
-    throw ArgumentError("iterations (" + std::to_string(config_.iterations) + ") must be a multiple of the batch (" +
-                        std::to_string(config_.batch) + "): iterations count views");
-  if (config_.batch > 1 && (config_.refine_poses || config_.exposure_compensation))
-    throw ArgumentError("pose refinement and exposure compensation train one view at a time: use batch 1");
-  if (config_.schedule_iterations < 0) throw ArgumentError("schedule_iterations must be >= 0");
   if (config_.schedule_iterations == 0) config_.schedule_iterations = config_.iterations;
   config_.density.white_background =
       config.background[0] == 1.0f && config.background[1] == 1.0f && config.background[2] == 1.0f;
   strategy_ = make_density_strategy(config_, dataset.train.size(), model_.size());
   adam_.reset_like(model_);
   last_good_model_ = model_;
-  if (config_.refine_poses) {
-    for (float lr : {config_.pose_rotation_lr, config_.pose_translation_lr})
-      if (!(lr >= 0.0f && std::isfinite(lr)))
-        throw ArgumentError("pose refinement: pose_rotation_lr and pose_translation_lr must be finite and >= 0");
-    if (!(config_.pose_lr_final_factor > 0.0f && config_.pose_lr_final_factor <= 1.0f))
-      throw ArgumentError("pose refinement: pose_lr_final_factor must be in (0, 1]");
-    if (!(config_.pose_lr_decay_until > 0.0f && config_.pose_lr_decay_until <= 1.0f))
-      throw ArgumentError("pose refinement: pose_lr_decay_until must be in (0, 1]");
-    if (!(config_.pose_adam_beta1 >= 0.0f && config_.pose_adam_beta1 < 1.0f))
-      throw ArgumentError("pose refinement: pose_adam_beta1 must be in [0, 1)");
-    if (config_.test_pose_alignment_steps < 0) throw ArgumentError("test_pose_alignment_steps must be >= 0");
-  }
-  if (config_.exposure_compensation) {
-    if (!(config_.exposure_lr >= 0.0f && std::isfinite(config_.exposure_lr)))
-      throw ArgumentError("exposure compensation: exposure_lr must be finite and >= 0");
-  }
   corrections_ = ViewCorrections(dataset, config_, scene_extent_);
 }
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <vector>
 
@@ -12,6 +13,8 @@
 #include "tests/cli_support.hpp"
 #include "splat/data/transforms_json.hpp"
 #include "splat/gaussians/ply_io.hpp"
+#include "splat/train/nerf_training_config.hpp"
+#include "splat/train/training_config.hpp"
 #include "tests/test_support.hpp"
 
 namespace splat {
@@ -528,6 +531,30 @@ TEST(TrainCli, NerfRejectsSplatOnlyOptionsAndBadModels) {
                         dir);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("broken.nerf"), std::string::npos) << r.err;
+}
+
+// The help states the defaults of the configs (their one place is the structs): it must say
+// what they are.
+TEST(TrainCli, HelpGivesTheConfigsDefaults) {
+  const auto r = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --help", test::scratch_dir("train_cli_help"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string help;  // runs of spaces and line breaks as one space
+  for (char c : r.out)
+    if (!(std::isspace(static_cast<unsigned char>(c)) && !help.empty() && help.back() == ' '))
+      help += std::isspace(static_cast<unsigned char>(c)) ? ' ' : c;
+  const SplatTrainingConfig compact = splat_training_preset("compact"), official = splat_training_preset("official");
+  const NerfTrainingConfig nerf;
+  const auto n = [](auto value) { return std::to_string(value); };
+  for (const std::string& expected :
+       {"(default " + n(compact.iterations) + " compact, " + n(official.iterations) + " official, " +
+            n(nerf.iterations) + " nerf;",
+        "(default " + n(compact.test_interval) + " splat, " + n(nerf.test_interval) + " nerf;",
+        "(default " + n(compact.checkpoint_interval) + "; 0 = off)", "their mean (default " + n(compact.batch) + ")",
+        "random seed (default " + n(compact.seed) + ")"})
+    EXPECT_NE(help.find(expected), std::string::npos) << expected << " is not in the help:\n" << help;
+  EXPECT_EQ(official.test_interval, compact.test_interval);
+  EXPECT_EQ(official.checkpoint_interval, compact.checkpoint_interval);
+  EXPECT_EQ(nerf.checkpoint_interval, compact.checkpoint_interval);
 }
 
 }  // namespace

