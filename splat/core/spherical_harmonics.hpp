@@ -71,32 +71,44 @@ inline glm::vec<3, T> sh_evaluate(int degree, const T* coeffs, const glm::vec<3,
   return {sum[0], sum[1], sum[2]};
 }
 
-// Backward of sh_basis: v_dir = Σₖ v_basis[k] ∂Yₖ/∂dir (dir treated as free, not unit;
-// the caller chains through the normalisation). Each line differentiates the matching
-// line of sh_basis.
+// Backward of sh_basis: (v_x, v_y, v_z) += Σₖ v_basis[k] ∂Yₖ/∂dir (dir treated as free, not
+// unit; the caller chains through the normalisation). Each line differentiates the matching
+// line of sh_basis_xyz. For a scalar T and for kLanes directions at once (simd::f32v).
+template <class T>
+inline void sh_basis_vjp_xyz(int degree, T x, T y, T z, const T* v_basis, T& v_x, T& v_y, T& v_z) {
+  auto k = [](double c) { return sh_constant<T>(c); };
+  if (degree < 1) return;
+  v_y += -k(kShC1) * v_basis[1];
+  v_z += k(kShC1) * v_basis[2];
+  v_x += -k(kShC1) * v_basis[3];
+  if (degree < 2) return;
+  const T xx = x * x, yy = y * y, zz = z * z;
+  // One term per basis function: its factor c·v_basis[k] times each partial derivative.
+  auto add = [&](T factor, T dx, T dy, T dz) {
+    v_x += factor * dx;
+    v_y += factor * dy;
+    v_z += factor * dz;
+  };
+  const T zero = k(0);
+  add(k(kShC2[0]) * v_basis[4], y, x, zero);
+  add(k(kShC2[1]) * v_basis[5], zero, z, y);
+  add(k(kShC2[2]) * v_basis[6], k(-2) * x, k(-2) * y, k(4) * z);
+  add(k(kShC2[3]) * v_basis[7], z, zero, x);
+  add(k(kShC2[4]) * v_basis[8], k(2) * x, k(-2) * y, zero);
+  if (degree < 3) return;
+  add(k(kShC3[0]) * v_basis[9], k(6) * x * y, k(3) * xx - k(3) * yy, zero);
+  add(k(kShC3[1]) * v_basis[10], y * z, x * z, x * y);
+  add(k(kShC3[2]) * v_basis[11], k(-2) * x * y, k(4) * zz - xx - k(3) * yy, k(8) * y * z);
+  add(k(kShC3[3]) * v_basis[12], k(-6) * x * z, k(-6) * y * z, k(6) * zz - k(3) * xx - k(3) * yy);
+  add(k(kShC3[4]) * v_basis[13], k(4) * zz - k(3) * xx - yy, k(-2) * x * y, k(8) * x * z);
+  add(k(kShC3[5]) * v_basis[14], k(2) * x * z, k(-2) * y * z, xx - yy);
+  add(k(kShC3[6]) * v_basis[15], k(3) * xx - k(3) * yy, k(-6) * x * y, zero);
+}
+
 template <class T>
 inline glm::vec<3, T> sh_basis_vjp(int degree, const glm::vec<3, T>& dir, const T* v_basis) {
   glm::vec<3, T> v(T(0));
-  if (degree < 1) return v;
-  const T x = dir.x, y = dir.y, z = dir.z;
-  v.y += -T(kShC1) * v_basis[1];
-  v.z += T(kShC1) * v_basis[2];
-  v.x += -T(kShC1) * v_basis[3];
-  if (degree < 2) return v;
-  const T xx = x * x, yy = y * y, zz = z * z;
-  v += T(kShC2[0]) * v_basis[4] * glm::vec<3, T>(y, x, 0);
-  v += T(kShC2[1]) * v_basis[5] * glm::vec<3, T>(0, z, y);
-  v += T(kShC2[2]) * v_basis[6] * glm::vec<3, T>(-2 * x, -2 * y, 4 * z);
-  v += T(kShC2[3]) * v_basis[7] * glm::vec<3, T>(z, 0, x);
-  v += T(kShC2[4]) * v_basis[8] * glm::vec<3, T>(2 * x, -2 * y, 0);
-  if (degree < 3) return v;
-  v += T(kShC3[0]) * v_basis[9] * glm::vec<3, T>(6 * x * y, 3 * xx - 3 * yy, 0);
-  v += T(kShC3[1]) * v_basis[10] * glm::vec<3, T>(y * z, x * z, x * y);
-  v += T(kShC3[2]) * v_basis[11] * glm::vec<3, T>(-2 * x * y, 4 * zz - xx - 3 * yy, 8 * y * z);
-  v += T(kShC3[3]) * v_basis[12] * glm::vec<3, T>(-6 * x * z, -6 * y * z, 6 * zz - 3 * xx - 3 * yy);
-  v += T(kShC3[4]) * v_basis[13] * glm::vec<3, T>(4 * zz - 3 * xx - yy, -2 * x * y, 8 * x * z);
-  v += T(kShC3[5]) * v_basis[14] * glm::vec<3, T>(2 * x * z, -2 * y * z, xx - yy);
-  v += T(kShC3[6]) * v_basis[15] * glm::vec<3, T>(3 * xx - 3 * yy, -6 * x * y, 0);
+  sh_basis_vjp_xyz(degree, dir.x, dir.y, dir.z, v_basis, v.x, v.y, v.z);
   return v;
 }
 

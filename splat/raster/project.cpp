@@ -7,6 +7,7 @@
 #include "splat/core/activations.hpp"
 #include "splat/core/simd.hpp"
 #include "splat/core/spherical_harmonics.hpp"
+#include "splat/raster/lane_projection.hpp"
 #include "splat/raster/pixel_projection.hpp"
 #include "splat/raster/projection_math.hpp"
 
@@ -41,84 +42,16 @@ void sh_colors(const GaussianModel& model, std::size_t first, int lanes, int deg
 }
 
 // ---- kLanes Gaussians at a time -------------------------------------------------------
-// The projection below is projection_math.hpp's scalar functions (which the backward pass
+// The projection is projection_math.hpp's scalar functions (which the backward pass
 // differentiates) written out for kLanes Gaussians, one per lane, term for term in the same
-// order. One Gaussian at a time it cost ~68 ns per Gaussian and core; this is about half.
-// Pixel position, depth, opacity and culling come out bit for bit as the scalar code's; the
-// covariance sums may round a few ulp apart, where the compiler fuses products into FMAs
-// differently (tests/raster/project_lanes_test.cpp bounds both). exp and log stay libm's, one
-// lane at a time.
+// order (lane_projection.hpp, shared with the backward). One Gaussian at a time it cost ~68 ns
+// per Gaussian and core; this is about half. Pixel position, depth, opacity and culling come
+// out bit for bit as the scalar code's; the covariance sums may round a few ulp apart, where
+// the compiler fuses products into FMAs differently (tests/raster/project_lanes_test.cpp
+// bounds both). exp and log stay libm's, one lane at a time.
 
 using simd::i32v;
-
-// A 3 × 3 matrix per lane, [row][column].
-struct LaneMat3 {
-  f32v m[3][3];
-};
-
-// Row i, column j: a(i,0)·b(0,j) + a(i,1)·b(1,j) + a(i,2)·b(2,j), summed as glm does.
-LaneMat3 multiply(const LaneMat3& a, const LaneMat3& b) {
-  LaneMat3 r;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) r.m[i][j] = a.m[i][0] * b.m[0][j] + a.m[i][1] * b.m[1][j] + a.m[i][2] * b.m[2][j];
-  return r;
-}
-
-LaneMat3 transpose(const LaneMat3& a) {
-  LaneMat3 r;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) r.m[i][j] = a.m[j][i];
-  return r;
-}
-
-LaneMat3 broadcast(const glm::mat3& a) {  // glm is [column][row]
-  LaneMat3 r;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) r.m[i][j] = simd::broadcast(a[j][i]);
-  return r;
-}
-
-float exp_of(float x) { return std::exp(x); }
-float log_of(float x) { return std::log(x); }
-
-// std::min(a, b) and std::max(a, b) per lane, NaN handling included.
-f32v min_of(f32v a, f32v b) { return b < a ? b : a; }
-f32v max_of(f32v a, f32v b) { return a < b ? b : a; }
-i32v min_of(i32v a, i32v b) { return b < a ? b : a; }
-i32v max_of(i32v a, i32v b) { return a < b ? b : a; }
-
-// The parameters of Gaussians first .. first + kLanes − 1, one per lane (the lanes past
-// `lanes` repeat the last Gaussian).
-struct LaneGaussians {
-  f32v mean[3], log_scale[3], quat[4], opacity_logit;
-
-  LaneGaussians(const GaussianModel& model, std::size_t first, int lanes) {
-    for (int l = 0; l < kLanes; ++l) {
-      const std::size_t i = first + std::size_t(std::min(l, lanes - 1));
-      for (int k = 0; k < 3; ++k) mean[k][l] = model.means[3 * i + k];
-      for (int k = 0; k < 3; ++k) log_scale[k][l] = model.log_scales[3 * i + k];
-      for (int k = 0; k < 4; ++k) quat[k][l] = model.quats[4 * i + k];
-      opacity_logit[l] = model.opacity_logits[i];
-    }
-  }
-};
-
-// quat_to_rotmat.
-LaneMat3 rotation_of(const f32v q[4]) {
-  const f32v inv_norm = 1.0f / simd::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-  const f32v w = q[0] * inv_norm, x = q[1] * inv_norm, y = q[2] * inv_norm, z = q[3] * inv_norm;
-  return {{{1.0f - 2.0f * (y * y + z * z), 2.0f * (x * y - w * z), 2.0f * (x * z + w * y)},
-           {2.0f * (x * y + w * z), 1.0f - 2.0f * (x * x + z * z), 2.0f * (y * z - w * x)},
-           {2.0f * (x * z - w * y), 2.0f * (y * z + w * x), 1.0f - 2.0f * (x * x + y * y)}}};
-}
-
-// covariance_3d: M = R S, Σ = M Mᵀ.
-LaneMat3 covariance_of(const f32v scale[3], const LaneMat3& rotation) {
-  LaneMat3 m = rotation;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) m.m[i][j] = m.m[i][j] * scale[j];
-  return multiply(m, transpose(m));
-}
+using namespace lanes;
 
 // The tiles a Gaussian of each lane touches, as integer vectors.
 struct LaneTileRect {
@@ -160,24 +93,16 @@ LaneTileRect clip_to_extent(const LaneTileRect& rect, f32v x, f32v y, f32v ex, f
 
 // What project_gaussians needs of the camera, computed once per frame.
 struct LaneCamera {
-  LaneMat3 rotation;  // camera from world
-  f32v translation[3];
+  LaneView view;
   glm::vec3 center;
-  float fx, fy, limit_x, limit_y;
   PixelProjection pixel_of;
   TileGrid grid;
 
   explicit LaneCamera(const Camera& camera)
-      : rotation(broadcast(camera.camera_from_world_rotation)),
+      : view(camera),
         center(camera.center_in_world()),
-        fx(camera.fx),
-        fy(camera.fy),
-        limit_x(kJacobianClamp * camera.tan_half_fov_x()),
-        limit_y(kJacobianClamp * camera.tan_half_fov_y()),
         pixel_of(camera),
-        grid(TileGrid::for_image(camera.width, camera.height)) {
-    for (int k = 0; k < 3; ++k) translation[k] = simd::broadcast(camera.camera_from_world_translation[k]);
-  }
+        grid(TileGrid::for_image(camera.width, camera.height)) {}
 };
 
 // Projects Gaussians first .. first + lanes − 1 into `out`, as the scalar functions would
@@ -186,27 +111,11 @@ struct LaneCamera {
 std::uint32_t project_lanes(const GaussianModel& model, std::size_t first, int lanes,
                             const LaneCamera& cam, ProjectedGaussians& out, f32v dir[3]) {
   const LaneGaussians g(model, first, lanes);
-  f32v mean_camera[3];  // Camera::camera_from_world
-  for (int i = 0; i < 3; ++i)
-    mean_camera[i] = cam.rotation.m[i][0] * g.mean[0] + cam.rotation.m[i][1] * g.mean[1] +
-                     cam.rotation.m[i][2] * g.mean[2] + cam.translation[i];
-  const f32v z = mean_camera[2];
+  const LaneShape shape(g, cam.view);
+  const f32v z = shape.mean_camera[2];
   i32v projected = z > kNearPlane;  // also drops a NaN position
-
-  f32v scale[3];
-  for (int k = 0; k < 3; ++k) scale[k] = simd::per_lane(g.log_scale[k], exp_of);
-  const LaneMat3 cov3d = covariance_of(scale, rotation_of(g.quat));
-
-  // covariance_2d with projection_jacobian.
-  const f32v x = min_of(simd::broadcast(cam.limit_x), max_of(simd::broadcast(-cam.limit_x), mean_camera[0] / z)) * z;
-  const f32v y = min_of(simd::broadcast(cam.limit_y), max_of(simd::broadcast(-cam.limit_y), mean_camera[1] / z)) * z;
+  const f32v xx = shape.xx, xy = shape.xy, yy = shape.yy;
   const f32v zero{};
-  const LaneMat3 jacobian{{{cam.fx / z, zero, -cam.fx * x / (z * z)},
-                           {zero, cam.fy / z, -cam.fy * y / (z * z)},
-                           {zero, zero, zero}}};
-  const LaneMat3 t = multiply(jacobian, cam.rotation);
-  const LaneMat3 cov = multiply(multiply(t, cov3d), transpose(t));
-  const f32v xx = cov.m[0][0] + kCovarianceDilation, xy = cov.m[0][1], yy = cov.m[1][1] + kCovarianceDilation;
 
   // invert_covariance_2d.
   const f32v det = xx * yy - xy * xy;

@@ -27,8 +27,10 @@ struct CameraPoseGradient {
 // `blend_weight[i]` receives Σ Tα over all pixels (the overlaps' blend_weight summed).
 // `camera_pose`, if given, receives ∂L/∂(the camera's pose) (camera_pose_vjp), summed over
 // the Gaussians in fixed blocks and fixed order, so it too is the same for any thread count.
+// The chain runs kLanes Gaussians at a time (lane_projection.hpp); the gather of each
+// Gaussian's tile records stays one Gaussian at a time, in its rectangle's order.
 void project_gaussians_backward(const GaussianModel& model, const Camera& camera, int sh_degree,
-                                const ProjectedGaussians& projected, const TileBins& bins,
+                                const TileBins& bins,
                                 const std::vector<Splat2DGrad>& overlap_grads,
                                 GaussianModel& grads, std::vector<float>& viewspace_grad_norm,
                                 std::vector<float>& blend_weight,

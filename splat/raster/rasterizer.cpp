@@ -60,7 +60,7 @@ void Rasterizer::backward(const GaussianModel& model, const Camera& camera,
   grads.timings.blend_backward_ms = ms_since(start);
 
   start = Clock::now();
-  project_gaussians_backward(model, camera, settings.sh_degree, frame.projected, frame.bins,
+  project_gaussians_backward(model, camera, settings.sh_degree, frame.bins,
                              overlap_grads_, grads.params, grads.viewspace_grad_norm,
                              grads.blend_weight, grads.with_camera_pose ? &grads.camera_pose : nullptr);
   grads.timings.project_backward_ms = ms_since(start);
