@@ -155,6 +155,40 @@ inline void transpose(f32v rows[kLanes]) {
   }
 }
 
+// Rows of `width` floats, one row per lane, as one vector per column: columns[j][l] =
+// rows[l][j]. Reads only rows[l][0 .. width), kLanes floats at a time and transposed.
+inline void load_columns(const float* const rows[kLanes], int width, f32v* columns) {
+  int j = 0;
+  for (; j + kLanes <= width; j += kLanes) {
+    f32v block[kLanes];
+    for (int l = 0; l < kLanes; ++l) std::memcpy(&block[l], rows[l] + j, sizeof(f32v));
+    transpose(block);
+    for (int k = 0; k < kLanes; ++k) columns[j + k] = block[k];
+  }
+  for (; j < width; ++j)
+    for (int l = 0; l < kLanes; ++l) columns[j][l] = rows[l][j];
+}
+
+// The reverse for the lanes whose bit is set in `lanes`: rows[l][j] = columns[j][l] for
+// j < width. The other lanes' rows are not touched (nor read).
+inline void store_columns(const f32v* columns, int width, std::uint32_t lanes, float* const rows[kLanes]) {
+  int j = 0;
+  for (; j + kLanes <= width; j += kLanes) {
+    f32v block[kLanes];
+    for (int k = 0; k < kLanes; ++k) block[k] = columns[j + k];
+    transpose(block);
+    for (std::uint32_t todo = lanes; todo != 0; todo &= todo - 1) {
+      const int l = __builtin_ctz(todo);
+      std::memcpy(rows[l] + j, &block[l], sizeof(f32v));
+    }
+  }
+  for (; j < width; ++j)
+    for (std::uint32_t todo = lanes; todo != 0; todo &= todo - 1) {
+      const int l = __builtin_ctz(todo);
+      rows[l][j] = columns[j][l];
+    }
+}
+
 // reduce_add of kLanes vectors at once: lane i of the result is reduce_add(v[i]), summed in
 // the same order (so bit for bit the same), by a transpose and kLanes − 1 vector additions.
 inline f32v reduce_add_each(const f32v v[kLanes]) {

@@ -27,14 +27,12 @@ void sh_colors(const GaussianModel& model, std::size_t first, int lanes, int deg
   const std::size_t stride = std::size_t(model.sh_coefficients()) * 3;
   const float* coeffs[kLanes];
   for (int l = 0; l < kLanes; ++l) coeffs[l] = &model.sh[(first + std::size_t(std::min(l, lanes - 1))) * stride];
-  f32v sum[3] = {};
   const int count = (degree + 1) * (degree + 1);
+  f32v coeff[3 * 16];
+  simd::load_columns(coeffs, 3 * count, coeff);
+  f32v sum[3] = {};
   for (int k = 0; k < count; ++k)
-    for (int c = 0; c < 3; ++c) {
-      f32v coeff;
-      for (int l = 0; l < kLanes; ++l) coeff[l] = coeffs[l][3 * k + c];
-      sum[c] += basis[k] * coeff;
-    }
+    for (int c = 0; c < 3; ++c) sum[c] += basis[k] * coeff[3 * k + c];
   for (int c = 0; c < 3; ++c) {
     const f32v raw = sum[c] + 0.5f;
     rgb[c] = simd::select(raw < 0.0f, f32v{}, raw);  // as std::max(raw, 0.0f) per lane

@@ -75,28 +75,22 @@ void chain_lanes(const GaussianModel& model, std::size_t first, int lanes, std::
     coeffs[l] = &model.sh[i * cam.coeffs_per_gaussian];
     v_coeffs[l] = &grads.sh[i * cam.coeffs_per_gaussian];
   }
-  auto coefficient = [&](int index) {
-    f32v c;
-    for (int l = 0; l < kLanes; ++l) c[l] = coeffs[l][index];
-    return c;
-  };
+  f32v coeff[3 * 16], v_coeff[3 * 16];
+  simd::load_columns(coeffs, 3 * count, coeff);
   f32v raw_color[3] = {};
   for (int k = 0; k < count; ++k)
-    for (int c = 0; c < 3; ++c) raw_color[c] += basis[k] * coefficient(3 * k + c);
+    for (int c = 0; c < 3; ++c) raw_color[c] += basis[k] * coeff[3 * k + c];
   f32v v_color[3];
   for (int c = 0; c < 3; ++c) v_color[c] = raw_color[c] + 0.5f < 0.0f ? f32v{} : g.color[c];
   f32v v_basis[16];
   for (int k = 0; k < count; ++k) {
     v_basis[k] = f32v{};
     for (int c = 0; c < 3; ++c) {
-      const f32v v_coeff = basis[k] * v_color[c];
-      for (std::uint32_t todo = live; todo != 0; todo &= todo - 1) {
-        const int l = __builtin_ctz(todo);
-        v_coeffs[l][3 * k + c] = v_coeff[l];
-      }
-      v_basis[k] += coefficient(3 * k + c) * v_color[c];
+      v_coeff[3 * k + c] = basis[k] * v_color[c];
+      v_basis[k] += coeff[3 * k + c] * v_color[c];
     }
   }
+  simd::store_columns(v_coeff, 3 * count, live, v_coeffs);
   f32v v_dir[3] = {};
   sh_basis_vjp_xyz(cam.degree, dir[0], dir[1], dir[2], v_basis, v_dir[0], v_dir[1], v_dir[2]);
   // dir = offset/|offset|: v_offset = (v_dir − dir (dir·v_dir)) / |offset|.

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "splat/core/simd.hpp"
 
@@ -19,6 +20,33 @@ TEST(Simd, TransposeSwapsRowsAndColumns) {
   simd::transpose(rows);
   for (int i = 0; i < kLanes; ++i)
     for (int j = 0; j < kLanes; ++j) EXPECT_EQ(rows[i][j], float(10 * j + i)) << i << ", " << j;
+}
+
+TEST(Simd, ColumnsOfRowsLoadAndStoreOnlyTheirWidthAndLanes) {
+  // Widths below, at and across the block of kLanes floats; rows far apart, with guard
+  // floats after each row's width that must be neither read into a column nor written.
+  for (int width : {3, 8, 12, 27, 48}) {
+    std::vector<float> storage(kLanes * 64, -1.0f);
+    const float* rows[kLanes];
+    float* out_rows[kLanes];
+    std::vector<float> out(kLanes * 64, -1.0f);
+    for (int l = 0; l < kLanes; ++l) {
+      rows[l] = &storage[64 * l];
+      out_rows[l] = &out[64 * l];
+      for (int j = 0; j < width; ++j) storage[64 * l + j] = float(100 * l + j);
+    }
+    f32v columns[48];
+    simd::load_columns(rows, width, columns);
+    for (int j = 0; j < width; ++j)
+      for (int l = 0; l < kLanes; ++l) ASSERT_EQ(columns[j][l], float(100 * l + j)) << width << ": " << j << ", " << l;
+    const std::uint32_t lanes = 0b10110101;
+    simd::store_columns(columns, width, lanes, out_rows);
+    for (int l = 0; l < kLanes; ++l)
+      for (int j = 0; j < 64; ++j) {
+        const bool written = ((lanes >> l) & 1) && j < width;
+        EXPECT_EQ(out[64 * l + j], written ? float(100 * l + j) : -1.0f) << width << ": " << l << ", " << j;
+      }
+  }
 }
 
 TEST(Simd, ReduceAddEachSumsInReduceAddsOrder) {
