@@ -42,8 +42,10 @@ struct LaneSplatGrads {
 // the VJPs of projection_math.hpp, covariance.hpp and spherical_harmonics.hpp chained as
 // project_backward.hpp describes, written out for kLanes term for term
 // (tests/raster/project_backward_lanes_test.cpp holds each lane to the scalar chain).
-// Writes only the live lanes' rows; adds their pose gradient to `pose`, lane by lane.
-void chain_lanes(const GaussianModel& model, std::size_t first, int lanes, std::uint32_t live,
+// Writes the live lanes' rows (the caller has zeroed the rows of every lane but their SH
+// coefficients); returns false if none was live after all, having written nothing. Adds the
+// live lanes' pose gradient to `pose`, lane by lane.
+bool chain_lanes(const GaussianModel& model, std::size_t first, int lanes, std::uint32_t live,
                  const LaneSplatGrads& g, const BackwardView& cam, GaussianModel& grads,
                  PosePart* pose) {
   const LaneGaussians gaussians(model, first, lanes);
@@ -52,7 +54,7 @@ void chain_lanes(const GaussianModel& model, std::size_t first, int lanes, std::
   // invert_covariance_2d; culled in the forward pass where Σ' is singular.
   const f32v det = xx * yy - xy * xy;
   live &= simd::bits(det != 0.0f);
-  if (live == 0) return;
+  if (live == 0) return false;
   const f32v inv_det = 1.0f / det;
   const f32v conic_a = yy * inv_det, conic_b = -xy * inv_det, conic_c = xx * inv_det;
 
@@ -90,7 +92,15 @@ void chain_lanes(const GaussianModel& model, std::size_t first, int lanes, std::
       v_basis[k] += coeff[3 * k + c] * v_color[c];
     }
   }
-  simd::store_columns(v_coeff, 3 * count, live, v_coeffs);
+  // Every lane's SH row is written whole here (zero in lanes that are not live), so the
+  // largest gradient array is written once rather than cleared and then written.
+  i32v live_lanes;
+  for (int l = 0; l < kLanes; ++l) live_lanes[l] = -int((live >> l) & 1);
+  for (int j = 0; j < 3 * count; ++j) v_coeff[j] = live_lanes ? v_coeff[j] : f32v{};
+  simd::store_columns(v_coeff, 3 * count, (1u << lanes) - 1, v_coeffs);
+  if (3 * count < cam.coeffs_per_gaussian)  // bands above the active degree
+    for (int l = 0; l < lanes; ++l)
+      std::fill(v_coeffs[l] + 3 * count, v_coeffs[l] + cam.coeffs_per_gaussian, 0.0f);
   f32v v_dir[3] = {};
   sh_basis_vjp_xyz(cam.degree, dir[0], dir[1], dir[2], v_basis, v_dir[0], v_dir[1], v_dir[2]);
   // dir = offset/|offset|: v_offset = (v_dir − dir (dir·v_dir)) / |offset|.
@@ -198,6 +208,7 @@ void chain_lanes(const GaussianModel& model, std::size_t first, int lanes, std::
     }
     for (int a = 0; a < 4; ++a) grads.quats[4 * i + a] = ((v_n[a] - n[a] * n_dot) / norm)[l];
   }
+  return true;
 }
 
 }  // namespace
@@ -231,7 +242,7 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
 
   tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
     const std::size_t begin = block * kBlock, end = std::min(n, (block + 1) * kBlock);
-    // Rows without a gradient are zero.
+    // Rows without a gradient are zero (the SH rows are cleared as chain_lanes passes them).
     auto clear = [&](std::vector<float>& array, std::size_t width) {
       std::memset(&array[begin * width], 0, (end - begin) * width * sizeof(float));
     };
@@ -239,7 +250,6 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
     clear(grads.log_scales, 3);
     clear(grads.quats, 4);
     clear(grads.opacity_logits, 1);
-    clear(grads.sh, std::size_t(coeffs_per_gaussian));
     for (std::size_t first = begin; first < end; first += kLanes) {
       const int lanes = int(std::min<std::size_t>(kLanes, end - first));
       LaneSplatGrads lane_grads;
@@ -279,9 +289,9 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
         lane_grads.opacity[l] = g.opacity;
         for (int c = 0; c < 3; ++c) lane_grads.color[c][l] = g.color[c];
       }
-      if (live != 0)
-        chain_lanes(model, first, lanes, live, lane_grads, cam, grads,
-                    camera_pose ? &pose_parts[block] : nullptr);
+      if (live == 0 || !chain_lanes(model, first, lanes, live, lane_grads, cam, grads,
+                                    camera_pose ? &pose_parts[block] : nullptr))
+        std::memset(&grads.sh[first * coeffs_per_gaussian], 0, std::size_t(lanes) * coeffs_per_gaussian * sizeof(float));
     }
   });
   if (camera_pose) {

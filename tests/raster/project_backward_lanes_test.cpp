@@ -112,7 +112,12 @@ void expect_lanes_match_scalar(const GaussianModel& model, const Camera& camera,
     o = {normal(rng), normal(rng), normal(rng), normal(rng), normal(rng), normal(rng),
          {normal(rng), normal(rng), normal(rng)}, std::abs(normal(rng))};
 
+  // Filled with garbage first: the backward pass must overwrite every entry.
   GaussianModel lanes;
+  lanes.sh_degree = model.sh_degree;
+  lanes.resize(model.size());
+  for (std::vector<float>* array : {&lanes.means, &lanes.log_scales, &lanes.quats, &lanes.opacity_logits, &lanes.sh})
+    std::fill(array->begin(), array->end(), 7.0f);
   std::vector<float> norm, weight;
   CameraPoseGradient pose;
   project_gaussians_backward(model, camera, degree, bins, overlap_grads, lanes, norm, weight, &pose);
@@ -143,7 +148,10 @@ void expect_lanes_match_scalar(const GaussianModel& model, const Camera& camera,
     if (!touched || !chain_one(model, camera, degree, i, g, exact)) {
       // Untouched or culled: zero gradients.
       EXPECT_EQ(lanes.opacity_logits[i], 0.0f);
-      EXPECT_EQ(lanes.means[3 * i], 0.0f);
+      for (int a = 0; a < 3; ++a) EXPECT_EQ(lanes.means[3 * i + a], 0.0f);
+      for (int a = 0; a < 3; ++a) EXPECT_EQ(lanes.log_scales[3 * i + a], 0.0f);
+      for (int a = 0; a < 4; ++a) EXPECT_EQ(lanes.quats[4 * i + a], 0.0f);
+      for (int k = 0; k < coeffs_per_gaussian; ++k) ASSERT_EQ(lanes.sh[i * coeffs_per_gaussian + k], 0.0f) << i;
       continue;
     }
     ASSERT_TRUE(chain_one(model, camera, degree, i, g, scalar));
