@@ -151,6 +151,37 @@ TEST(Adam, MaskedGroupKeepsParametersAndMoments) {
   EXPECT_EQ(state.step, 2);
 }
 
+TEST(Adam, BothShGroupsTogetherStepBitForBitAsEachAlone) {
+  // With both SH groups active the rows are stepped in one loop over their columns; with one
+  // masked, each run of columns in a loop of its own. Every element must come out the same.
+  const GaussianModel start = test::random_model(1001, 3, 31);
+  const GaussianModel grads = test::random_model(1001, 3, 32);
+  auto run = [&](bool dc, bool rest) {
+    GaussianModel params = start;
+    AdamState state;
+    state.reset_like(params);
+    AdamGroupMask mask;
+    mask.sh_dc = dc;
+    mask.sh_rest = rest;
+    for (int i = 0; i < 3; ++i) adam_step(params, grads, state, distinct_rates(), {}, mask);
+    return std::pair{params, state};
+  };
+  const auto [both, both_state] = run(true, true);
+  const auto [dc, dc_state] = run(true, false);
+  const auto [rest, rest_state] = run(false, true);
+  const std::size_t row = std::size_t(start.sh_coefficients()) * 3;
+  int mismatches = 0;
+  for (std::size_t i = 0; i < start.sh.size(); ++i) {
+    const bool is_dc = i % row < 3;
+    const GaussianModel& alone = is_dc ? dc : rest;
+    const AdamState& alone_state = is_dc ? dc_state : rest_state;
+    mismatches += both.sh[i] != alone.sh[i] || both_state.first_moment.sh[i] != alone_state.first_moment.sh[i] ||
+                  both_state.second_moment.sh[i] != alone_state.second_moment.sh[i];
+  }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_NE(both.sh, start.sh);
+}
+
 TEST(Adam, RejectsMismatchedShapes) {
   GaussianModel params = test::random_model(3, 1, 1);
   AdamState state;
