@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Prints the test-PSNR-against-time curve of a splat-train metrics.json (P1), with the
-Gaussian count and time per iteration, and the best PSNR reached within a time budget.
+Gaussian count and time per iteration, when each whole dB was first scored, and the best PSNR
+reached within a time budget.
 
     python3 bench/history.py OUT/metrics.json [--budget-seconds 1200]
 """
@@ -35,6 +36,9 @@ def main():
     if "ms_per_iteration" in m:
         parts = ", ".join(f"{k} {v:.1f}" for k, v in m["ms_per_iteration"].items())
         print(f"mean ms per iteration: {parts}")
+    for level in m.get("time_to_psnr", []):
+        print(f"{level['psnr']:.0f} dB first scored at iteration {level['iteration']}, "
+              f"{level['seconds']:.1f} s (not yet at {level['after_seconds']:.1f} s)")
     if best_in_budget is not None:
         print(f"best test PSNR within {args.budget_seconds:.0f} s of training: {best_in_budget:.3f} dB")
 

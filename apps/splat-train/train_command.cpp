@@ -14,6 +14,7 @@
 #include "apps/common/progress_reporter.hpp"
 #include "splat/core/atomic_file.hpp"
 #include "splat/data/image_io.hpp"
+#include "splat/eval/quality_levels.hpp"
 #include "splat/optim/step_events.hpp"
 #include "splat/gaussians/ply_io.hpp"
 #include "splat/train/splat_trainer.hpp"
@@ -231,6 +232,24 @@ int TrainingRun::run() {
   return interrupted ? 130 : 0;
 }
 
+namespace {
+
+// The test points of the history as quality levels (splat/eval/quality_levels.hpp).
+nlohmann::json time_to_psnr(const nlohmann::json& history) {
+  std::vector<ScorePoint> scores;
+  for (const nlohmann::json& entry : history)
+    if (entry.contains("test_psnr") && entry.at("test_psnr").is_number())
+      scores.push_back({entry.at("iteration").get<int>(), entry.at("seconds").get<double>(),
+                        entry.at("test_psnr").get<double>()});
+  nlohmann::json levels = nlohmann::json::array();
+  for (const QualityLevel& level : quality_levels(scores))
+    levels.push_back({{"psnr", level.psnr}, {"iteration", level.iteration}, {"seconds", level.seconds},
+                      {"after_seconds", level.after_seconds}});
+  return levels;
+}
+
+}  // namespace
+
 nlohmann::json TrainingRun::metrics(const std::string& stopped_by, double train_seconds,
                                     std::size_t model_bytes) const {
   nlohmann::json m;
@@ -243,6 +262,7 @@ nlohmann::json TrainingRun::metrics(const std::string& stopped_by, double train_
   if (last_test_)
     m["test"] = {{"psnr", last_test_->psnr}, {"ssim", last_test_->ssim}, {"views", last_test_->views}};
   m["history"] = history_;
+  m["time_to_psnr"] = time_to_psnr(history_);
   m["stopped_by"] = stopped_by;
   m["ms_per_iteration"] = timings_json(whole_run_.timings, whole_run_.count);
   m["peak_memory_bytes"] = peak_memory_bytes();

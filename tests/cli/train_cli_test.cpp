@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -90,6 +91,19 @@ TEST(TrainCli, TrainsAndWritesTheContractOutputs) {
     }
   EXPECT_GT(m.at("test").at("psnr").get<double>(), first_psnr + 1.0);
   EXPECT_GT(m.at("test").at("psnr").get<double>(), 18.0);
+  // Time to quality: the first whole dB above the first score is listed, at a test point,
+  // after the test point before it.
+  std::vector<int> test_points;
+  for (const auto& h : history)
+    if (h.contains("test_psnr")) test_points.push_back(h.at("iteration").get<int>());
+  const auto& levels = m.at("time_to_psnr");
+  ASSERT_FALSE(levels.empty());
+  EXPECT_EQ(levels.front().at("psnr").get<double>(), std::floor(first_psnr) + 1.0);
+  for (const auto& level : levels) {
+    EXPECT_NE(std::find(test_points.begin(), test_points.end(), level.at("iteration").get<int>()),
+              test_points.end()) << level.dump();
+    EXPECT_LT(level.at("after_seconds").get<double>(), level.at("seconds").get<double>()) << level.dump();
+  }
   // The model file is a standard PLY of the reported size.
   const GaussianModel model = read_ply(dir / "out" / "model.ply");
   EXPECT_EQ(model.size(), m.at("num_gaussians").get<std::size_t>());
