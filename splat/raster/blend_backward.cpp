@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include "splat/composite/composite.hpp"
+#include "splat/core/error.hpp"
 #include "splat/core/simd.hpp"
 #include "splat/raster/tile_walk.hpp"
 
@@ -76,6 +77,7 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
                          const TileBins& bins, const TileGrid& grid, const float background[3],
                          bool zero_clamped_alpha_gradient, const RenderResult& forward, const Image& v_color,
                          std::vector<Splat2DGrad>& overlap_grads) {
+  const std::vector<std::uint32_t>& entry_chunks = forward.frame.entry_chunks;
   const int x0 = tile_x * kTileSize, y0 = tile_y * kTileSize;
   const std::size_t tile = std::size_t(tile_y) * grid.tiles_x + tile_x;
   const std::uint32_t list_begin = bins.tile_start[tile], list_end = bins.tile_start[tile + 1];
@@ -94,18 +96,20 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
     const Splat2D& s = projected.splats[bins.gaussian_ids[position]];
     GradAccum acc;
     bool blended_any = false;
-    // The same pixels as the forward pass (outside them nothing was blended).
-    const Footprint box = footprint_in_tile(s, x0, y0);
-    if (!box.empty()) {
-      const SplatReach reach(s);
+    // The chunks the forward pass walked for this entry (outside them nothing was blended).
+    if (const std::uint32_t chunks = entry_chunks[position]; chunks != 0) {
       const f32v opacity = simd::broadcast(s.opacity);
       const f32v red = simd::broadcast(s.color[0]), green = simd::broadcast(s.color[1]),
                  blue = simd::broadcast(s.color[2]);
-      for (int c = box.chunk_lo; c <= box.chunk_hi; ++c) {
+      // Column by column, rows in order: the order the sums were always taken in.
+      static_assert(kChunksPerRow == 2, "the chunks of a column are every other bit");
+      for (int c = 0; c < kChunksPerRow; ++c) {
+        const std::uint32_t column_chunks = chunks & (0x55555555u << c);
+        if (column_chunks == 0) continue;
         const SplatColumn column(s, x0, c);
-        for (std::uint32_t rows = rows_to_walk(s, reach, x0, y0, c, box); rows != 0; rows &= rows - 1) {
-          const int y = y0 + __builtin_ctz(rows);
-          const int chunk = (y - y0) * kChunksPerRow + c;
+        for (std::uint32_t todo = column_chunks; todo != 0; todo &= todo - 1) {
+          const int chunk = __builtin_ctz(todo);
+          const int y = y0 + chunk / kChunksPerRow;
           // Lanes whose list reaches entry k (contributor_count counts entries 1-based).
           const i32v in_list = state.contributor_count[chunk] > k;
           if (!simd::any(in_list)) continue;
@@ -149,6 +153,10 @@ void blend_tiles_backward(const ProjectedGaussians& projected, const TileBins& b
                           const TileGrid& grid, const float background[3],
                           AlphaClampGradient clamp_gradient, const RenderResult& forward,
                           const Image& v_color, std::vector<Splat2DGrad>& overlap_grads) {
+  if (forward.frame.entry_chunks.size() != bins.gaussian_ids.size())
+    throw ArgumentError("blend backward: the forward result holds the walk of " +
+                        std::to_string(forward.frame.entry_chunks.size()) + " tile-list entries, the lists have " +
+                        std::to_string(bins.gaussian_ids.size()));
   overlap_grads.resize(bins.gaussian_ids.size());
   tbb::parallel_for(0, grid.count(), [&](int tile) {
     blend_tile_backward(tile % grid.tiles_x, tile / grid.tiles_x, projected, bins, grid,
