@@ -92,6 +92,7 @@ struct TileBatch {
   const Splat2D* splat[kBatch];
   std::int32_t position[kBatch];            // list position + 1 (contributor_count)
   std::uint32_t chunks[kBatch];             // per entry: the chunks it may draw in
+  std::uint32_t blended_chunks[kBatch];     // per entry: the chunks where it blended a pixel
   std::uint64_t entries[kChunksPerTile];    // per chunk: the entries that may draw in it
   bool reaches[kBatch];                     // (counting only) draws in some pixel
 };
@@ -111,10 +112,8 @@ std::uint32_t chunks_to_walk(const Splat2D& s, int x0, int y0) {
 
 // Sets up entries [k, k + batch.size) of the tile's list: each entry's chunks, then each
 // chunk's entries (a bit transpose), leaving out the chunks not in `live`.
-// The entries' chunks are also recorded in `entry_chunks` (when given) for the backward pass.
 void fill_batch(const ProjectedGaussians& projected, const TileBins& bins, std::uint32_t k,
-                std::uint32_t list_begin, int x0, int y0, std::uint32_t live, TileBatch& batch,
-                std::uint32_t* entry_chunks) {
+                std::uint32_t list_begin, int x0, int y0, std::uint32_t live, TileBatch& batch) {
   for (int j = 0; j < batch.size; ++j) {
     constexpr std::uint32_t kPrefetchDistance = 16;
     if (k + j + kPrefetchDistance < bins.gaussian_ids.size())
@@ -123,7 +122,7 @@ void fill_batch(const ProjectedGaussians& projected, const TileBins& bins, std::
     batch.splat[j] = &s;
     batch.position[j] = std::int32_t(k + j - list_begin + 1);
     batch.chunks[j] = chunks_to_walk(s, x0, y0) & live;
-    if (entry_chunks != nullptr) entry_chunks[k + j] = batch.chunks[j];
+    batch.blended_chunks[j] = 0;
   }
   for (int j = batch.size; j < (batch.size + kLanes - 1) / kLanes * kLanes; ++j) batch.chunks[j] = 0;
   std::fill(std::begin(batch.entries), std::end(batch.entries), 0);
@@ -168,6 +167,7 @@ bool blend_chunk(int chunk, int x0, int y0, int width, int height, TileBatch& ba
                                         simd::broadcast(s.color[1]), simd::broadcast(s.color[2]),
                                         simd::broadcast(s.depth), finished);
     last_blended = blended ? (i32v{} + batch.position[j]) : last_blended;
+    batch.blended_chunks[j] |= std::uint32_t(simd::any(blended)) << chunk;
     if (!kCount && !simd::any(~finished)) break;
   }
   state.accum[chunk] = accum;
@@ -196,7 +196,7 @@ void blend_tile(int tile_x, int tile_y, const ProjectedGaussians& projected, con
     // Counting walks every chunk of every entry (for the reaching count); the blend of a
     // finished chunk changes nothing, so the image is the same.
     const std::uint32_t chunks = kCount ? all_chunks : live_chunks;
-    fill_batch(projected, bins, k, list_begin, x0, y0, chunks, batch, entry_chunks);
+    fill_batch(projected, bins, k, list_begin, x0, y0, chunks, batch);
     if constexpr (kCount) {
       counts->list_entries += std::uint32_t(batch.size);
       if (live_chunks != 0) counts->visited_entries += std::uint32_t(batch.size);
@@ -210,6 +210,10 @@ void blend_tile(int tile_x, int tile_y, const ProjectedGaussians& projected, con
       if (!blend_chunk<kCount>(chunk, x0, y0, width, height, batch, state, counts))
         live_chunks &= ~(1u << chunk);
     }
+    // For the backward pass: it need visit only these chunks (where nothing was blended, an
+    // entry has no gradient).
+    if (entry_chunks != nullptr)
+      for (int j = 0; j < batch.size; ++j) entry_chunks[k + j] = batch.blended_chunks[j];
     if constexpr (kCount)
       for (int j = 0; j < batch.size; ++j) counts->reaching_entries += batch.reaches[j];
   }

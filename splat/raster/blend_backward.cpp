@@ -96,7 +96,7 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
     const Splat2D& s = projected.splats[bins.gaussian_ids[position]];
     GradAccum acc;
     bool blended_any = false;
-    // The chunks the forward pass walked for this entry (outside them nothing was blended).
+    // The chunks where the forward pass blended this entry (elsewhere it has no gradient).
     if (const std::uint32_t chunks = entry_chunks[position]; chunks != 0) {
       const f32v opacity = simd::broadcast(s.opacity);
       const f32v red = simd::broadcast(s.color[0]), green = simd::broadcast(s.color[1]),

@@ -15,10 +15,9 @@ struct RasterFrame {
   ProjectedGaussians projected;  // every Gaussian's splat, radius and tile rectangle
   TileBins bins;                 // each tile's front-to-back list
   TileGrid grid;
-  // Per list entry (parallel to bins.gaussian_ids), the chunks of its tile the blend walked
-  // for it (tile_walk.hpp: bit row · kChunksPerRow + column), written by blend_tiles for every
-  // entry before its tile's pixels all finished. The backward walks the same chunks, so it
-  // reads them here instead of bounding each splat again.
+  // Per list entry (parallel to bins.gaussian_ids), the chunks of its tile in which it blended
+  // some pixel (tile_walk.hpp: bit row · kChunksPerRow + column), written by blend_tiles for
+  // every entry before its tile's pixels all finished. The backward visits only these.
   std::vector<std::uint32_t> entry_chunks;
 };
 
