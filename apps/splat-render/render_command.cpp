@@ -95,6 +95,7 @@ int run_render_command(const RenderCommandOptions& options) {
 
   RenderSettings settings;
   settings.sh_degree = options.sh_degree;
+  settings.for_backward = false;
   std::copy(options.background, options.background + 3, settings.background);
   Rasterizer rasterizer;
   RenderResult result;

@@ -41,6 +41,7 @@ class SplatPanel : public PanelModel {
     const auto start = Clock::now();
     RenderSettings settings;
     settings.sh_degree = view.sh_degree;
+    settings.for_backward = false;
     for (int c = 0; c < 3; ++c) settings.background[c] = view.background[c];
     rasterizer_.render(model_, camera, settings, result_);
     frame.timings = result_.timings;

@@ -82,13 +82,7 @@ inline int reduce_max(i32v v) {
   return m;
 }
 
-// x in every lane, bit for bit (−0 stays −0). Not f32v{} + x: the compiler must keep that
-// addition (+0 + −0 is +0), an extra instruction per broadcast in the blend's inner loops.
-inline f32v broadcast(float x) {
-  f32v v;
-  for (int i = 0; i < kLanes; ++i) v[i] = x;
-  return v;
-}
+inline f32v broadcast(float x) { return f32v{} + x; }
 // a < b ? a : b and a > b ? a : b, lane-wise. x86's min and max compute exactly these (the
 // second operand when either is NaN or both are zeros), in one instruction where the compiler
 // would otherwise emit a compare and a blend (it may not assume finite, unsigned-zero math).

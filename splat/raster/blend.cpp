@@ -81,6 +81,12 @@ void write_tile(int x0, int y0, const TileState& state, const float background[3
   }
 }
 
+// What a walk over the tiles does besides the image: kRecord also records where each entry
+// blended (RasterFrame::entry_chunks, for the backward pass); kCount also tallies the work
+// into BlendWorkCounts, walking every list to its end (the blend itself is the same). Separate
+// instantiations, so a render only looked at carries neither.
+enum class BlendPass { kImage, kRecord, kCount };
+
 // The tile's list is blended a batch at a time: first each splat of the batch is entered in
 // the chunks it may draw in, then each chunk blends its entries with its state in registers,
 // so the state is loaded and stored once per batch instead of once per splat and row.
@@ -139,9 +145,10 @@ void fill_batch(const ProjectedGaussians& projected, const TileBins& bins, std::
 
 // Blends chunk `chunk`'s entries of the batch into its state. Returns false once every pixel
 // of the chunk has finished (the rest of the list cannot change it).
-template <bool kCount>
+template <BlendPass kPass>
 bool blend_chunk(int chunk, int x0, int y0, int width, int height, TileBatch& batch,
                  TileState& state, BlendWorkCounts* counts) {
+  constexpr bool kCount = kPass == BlendPass::kCount;
   const int row = chunk / kChunksPerRow, column = chunk % kChunksPerRow;
   const float y = float(y0 + row);
   CompositeAccum<f32v> accum = state.accum[chunk];
@@ -167,7 +174,7 @@ bool blend_chunk(int chunk, int x0, int y0, int width, int height, TileBatch& ba
                                         simd::broadcast(s.color[1]), simd::broadcast(s.color[2]),
                                         simd::broadcast(s.depth), finished);
     last_blended = blended ? (i32v{} + batch.position[j]) : last_blended;
-    batch.blended_chunks[j] |= std::uint32_t(simd::any(blended)) << chunk;
+    if constexpr (kPass == BlendPass::kRecord) batch.blended_chunks[j] |= std::uint32_t(simd::any(blended)) << chunk;
     if (!kCount && !simd::any(~finished)) break;
   }
   state.accum[chunk] = accum;
@@ -176,12 +183,12 @@ bool blend_chunk(int chunk, int x0, int y0, int width, int height, TileBatch& ba
   return simd::any(~finished);
 }
 
-// kCount: also tally the work into `counts`, walking every list to its end (the blend itself
-// is the same); a separate instantiation, so the timed renders carry no counters.
-template <bool kCount>
+// `entry_chunks` is written under kRecord, `counts` under kCount.
+template <BlendPass kPass>
 void blend_tile(int tile_x, int tile_y, const ProjectedGaussians& projected, const TileBins& bins,
                 const TileGrid& grid, const float background[3], RenderResult& result,
                 std::uint32_t* entry_chunks, BlendWorkCounts* counts) {
+  constexpr bool kCount = kPass == BlendPass::kCount;
   const int width = result.color.width, height = result.color.height;
   const int x0 = tile_x * kTileSize, y0 = tile_y * kTileSize;
   TileState state;
@@ -207,12 +214,12 @@ void blend_tile(int tile_x, int tile_y, const ProjectedGaussians& projected, con
     }
     for (std::uint32_t todo = chunks; todo != 0; todo &= todo - 1) {
       const int chunk = __builtin_ctz(todo);
-      if (!blend_chunk<kCount>(chunk, x0, y0, width, height, batch, state, counts))
+      if (!blend_chunk<kPass>(chunk, x0, y0, width, height, batch, state, counts))
         live_chunks &= ~(1u << chunk);
     }
     // For the backward pass: it need visit only these chunks (where nothing was blended, an
     // entry has no gradient).
-    if (entry_chunks != nullptr)
+    if constexpr (kPass == BlendPass::kRecord)
       for (int j = 0; j < batch.size; ++j) entry_chunks[k + j] = batch.blended_chunks[j];
     if constexpr (kCount)
       for (int j = 0; j < batch.size; ++j) counts->reaching_entries += batch.reaches[j];
@@ -223,12 +230,18 @@ void blend_tile(int tile_x, int tile_y, const ProjectedGaussians& projected, con
 }  // namespace
 
 void blend_tiles(const ProjectedGaussians& projected, const TileBins& bins, const TileGrid& grid,
-                 const float background[3], RenderResult& result) {
+                 const float background[3], bool for_backward, RenderResult& result) {
   std::vector<std::uint32_t>& entry_chunks = result.frame.entry_chunks;
-  entry_chunks.resize(bins.gaussian_ids.size());
+  // Without the record the vector is empty, so a backward pass refuses the frame.
+  entry_chunks.resize(for_backward ? bins.gaussian_ids.size() : 0);
   tbb::parallel_for(0, grid.count(), [&](int tile) {
-    blend_tile<false>(tile % grid.tiles_x, tile / grid.tiles_x, projected, bins, grid, background,
-                      result, entry_chunks.data(), nullptr);
+    const int tile_x = tile % grid.tiles_x, tile_y = tile / grid.tiles_x;
+    if (for_backward)
+      blend_tile<BlendPass::kRecord>(tile_x, tile_y, projected, bins, grid, background, result,
+                                     entry_chunks.data(), nullptr);
+    else
+      blend_tile<BlendPass::kImage>(tile_x, tile_y, projected, bins, grid, background, result,
+                                    nullptr, nullptr);
   });
 }
 
@@ -239,7 +252,7 @@ BlendWorkCounts count_blend_work(const RenderResult& rendered) {
   const RasterFrame& frame = rendered.frame;
   BlendWorkCounts total;
   for (int tile = 0; tile < frame.grid.count(); ++tile)
-    blend_tile<true>(tile % frame.grid.tiles_x, tile / frame.grid.tiles_x, frame.projected,
+    blend_tile<BlendPass::kCount>(tile % frame.grid.tiles_x, tile / frame.grid.tiles_x, frame.projected,
                      frame.bins, frame.grid, background, scratch, nullptr, &total);
   return total;
 }

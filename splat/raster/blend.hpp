@@ -11,9 +11,11 @@ namespace splat {
 
 // α = min(kMaxAlpha, o·exp(−½ dᵀ Σ'⁻¹ d)) at each pixel centre; α < kMinAlpha is skipped.
 // Tiles run in parallel; each pixel's sum runs in one fixed order, so the image is
-// bit-identical for any thread count. `result` must be sized for width x height.
+// bit-identical for any thread count. `result` must be sized for width x height. With
+// `for_backward`, also records where each list entry blended (RasterFrame::entry_chunks),
+// which blend_tiles_backward needs; a render only looked at leaves it out (a few per cent).
 void blend_tiles(const ProjectedGaussians& projected, const TileBins& bins, const TileGrid& grid,
-                 const float background[3], RenderResult& result);
+                 const float background[3], bool for_backward, RenderResult& result);
 
 // The work of one blend_tiles call, for benchmarks: the Gaussian–tile pairs the lists hold and
 // how many of them could draw anything, and the pixel evaluations the walk makes.

@@ -38,7 +38,7 @@ void Rasterizer::render(const GaussianModel& model, const Camera& camera,
   result.timings.bin_sort_ms = ms_since(start);
 
   start = Clock::now();
-  blend_tiles(frame.projected, frame.bins, frame.grid, settings.background, result);
+  blend_tiles(frame.projected, frame.bins, frame.grid, settings.background, settings.for_backward, result);
   result.timings.blend_ms = ms_since(start);
 }
 

@@ -21,6 +21,9 @@ struct RenderSettings {
   // the default), or passed straight through as if unclamped, which is what the official CUDA
   // rasterizer's backward does (splat-grad uses it to compare with its gradients).
   AlphaClampGradient alpha_clamp_gradient = AlphaClampGradient::kZero;
+  // Keep what Rasterizer::backward needs of the blend (where each tile-list entry blended).
+  // Renders that are only looked at (splat-render, the viewer) turn it off.
+  bool for_backward = true;
 };
 
 // Wall time of each stage of a backward pass, in milliseconds.

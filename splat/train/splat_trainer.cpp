@@ -219,7 +219,9 @@ void SplatTrainer::check_parameters_finite() const {
 Image SplatTrainer::render(const Camera& camera) const {
   Rasterizer rasterizer;
   RenderResult result;
-  rasterizer.render(model_, camera, render_settings(), result);
+  RenderSettings settings = render_settings();
+  settings.for_backward = false;  // a render to look at or score
+  rasterizer.render(model_, camera, settings, result);
   return clamped(result.color);
 }
 

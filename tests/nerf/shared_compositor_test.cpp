@@ -93,7 +93,7 @@ Outcome through_rasterizer(const Sequence& s, const float v_color[3]) {
   bins.tile_start = {0, std::uint32_t(n)};
   RenderResult result;
   result.resize(kTileSize, kTileSize);
-  blend_tiles(projected, bins, grid, kBackground, result);
+  blend_tiles(projected, bins, grid, kBackground, /*for_backward=*/true, result);
 
   const std::size_t p = std::size_t(kPixelY) * kTileSize + kPixelX;
   Outcome o{{result.color.data[3 * p], result.color.data[3 * p + 1], result.color.data[3 * p + 2]},

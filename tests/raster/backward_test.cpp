@@ -131,5 +131,26 @@ TEST(Backward, TakesItsFrameFromTheForwardResultItIsGiven) {
                ArgumentError);
 }
 
+TEST(Backward, RefusesAFrameRenderedOnlyToBeLookedAt) {
+  // A render without the blend's record (for_backward off) has the same image, and a backward
+  // pass on it is refused rather than walking a record that is not there.
+  const GaussianModel model = test::random_model(60, 1, 27);
+  const Camera camera = test::looking_at_origin(40, 24);
+  Rasterizer rasterizer;
+  RenderResult recorded, looked_at;
+  rasterizer.render(model, camera, RenderSettings{}, recorded);
+  RenderSettings view_only;
+  view_only.for_backward = false;
+  rasterizer.render(model, camera, view_only, looked_at);
+  EXPECT_EQ(looked_at.color.data, recorded.color.data);
+  EXPECT_EQ(looked_at.contributor_count, recorded.contributor_count);
+  EXPECT_FALSE(recorded.frame.entry_chunks.empty());
+  Image v_color(40, 24, 3);
+  for (float& v : v_color.data) v = 1.0f;
+  RasterGradients grads;
+  EXPECT_THROW(rasterizer.backward(model, camera, RenderSettings{}, looked_at, v_color, grads),
+               ArgumentError);
+}
+
 }  // namespace
 }  // namespace splat
