@@ -27,8 +27,8 @@ struct Splat2DGrad {
 // Writes overlap_grads[p] for every entry p of every tile list (zero where the Gaussian
 // blended nowhere in that tile). Each entry is written by exactly one tile in a fixed order,
 // so the result does not depend on the thread count. `v_color` is ∂L/∂color, [H, W, 3];
-// `forward` is blend_tiles' result for these lists (its per-pixel state and the chunks it
-// walked for each entry).
+// `forward` is blend_tiles' result for these lists, rendered for a backward pass (its
+// per-pixel state and the chunks where each entry blended); ArgumentError otherwise.
 void blend_tiles_backward(const ProjectedGaussians& projected, const TileBins& bins,
                           const TileGrid& grid, const float background[3],
                           AlphaClampGradient clamp_gradient, const RenderResult& forward,

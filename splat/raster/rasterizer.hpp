@@ -22,7 +22,7 @@ struct RenderSettings {
   // rasterizer's backward does (splat-grad uses it to compare with its gradients).
   AlphaClampGradient alpha_clamp_gradient = AlphaClampGradient::kZero;
   // Keep what Rasterizer::backward needs of the blend (where each tile-list entry blended).
-  // Renders that are only looked at (splat-render, the viewer) turn it off.
+  // Renders that are only looked at (splat-render, the viewer, scoring) turn it off.
   bool for_backward = true;
 };
 
