@@ -126,6 +126,8 @@ void TrainingRun::on_step(const StepResult& step, const LoopState& state) {
                         {"loss", window_.loss / std::max(1, window_.count)},
                         {"num_gaussians", trainer_->num_gaussians()},
                         {"ms_per_iteration", timings_json(window_.timings, window_.count)}});
+    // The resolution warm-up (resolution_schedule.hpp) explains the fast early iterations.
+    if (step.resolution_divisor > 1) history_.back()["resolution_divisor"] = step.resolution_divisor;
     window_ = WindowAverages{};
   }
   if (leads() && step_reaches_multiple(it, views, schedule_.checkpoint_interval))

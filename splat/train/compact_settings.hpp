@@ -4,10 +4,12 @@
 namespace splat {
 
 struct CompactSettings {
-  // Resolution warm-up: before iteration `warmup_until` the images are trained at reduced
-  // size, 1/warmup_divisor at first, the divisor halving at equal steps (1 = off).
+  // Resolution warm-up (resolution_schedule.hpp): until schedule iteration `warmup_until`
+  // the images are trained at reduced size, 1/warmup_divisor at most (1 = off), the size
+  // growing by halving steps or with the images' spectrum.
   int warmup_divisor = 1;
   int warmup_until = 0;
+  bool warmup_by_spectrum = false;
 
   // Growth, every grow_interval iterations after grow_from up to grow_until: Gaussians whose
   // mean view-space gradient reaches grow_grad_threshold are cloned (small) or split

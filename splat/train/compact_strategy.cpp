@@ -39,7 +39,6 @@ CompactStrategy::CompactStrategy(const CompactSettings& settings,
                                  unsigned seed, std::size_t gaussian_count)
     : settings_(settings), density_(density), seed_(seed) {
   if (settings.grow_interval < 1) throw ArgumentError("compact strategy: grow_interval must be >= 1");
-  if (settings.warmup_divisor < 1) throw ArgumentError("compact strategy: warmup_divisor must be >= 1");
   if (!(settings.grow_max_fraction >= 0)) throw ArgumentError("compact strategy: grow_max_fraction must be >= 0");
   // Views come in shuffled epochs, so only a window of two epochs' length is sure to hold
   // every training view: a Gaussian seen from a few views only is not pruned for being unseen.
@@ -56,15 +55,6 @@ void CompactStrategy::reset_stats(std::size_t n) {
 
 AlignedRows CompactStrategy::rows(TrainingState& state) {
   return {state.model, state.adam, {&grad_accum_, &visible_views_, &window_weight_}};
-}
-
-int CompactStrategy::resolution_divisor(int iteration) const {
-  const int d0 = settings_.warmup_divisor;
-  if (d0 <= 1 || iteration > settings_.warmup_until) return 1;
-  int levels = 0;
-  while ((1 << (levels + 1)) <= d0) ++levels;  // halvings from d0 down to 1
-  const int stage = int(std::int64_t(iteration - 1) * levels / std::max(1, settings_.warmup_until));
-  return std::max(1, d0 >> stage);
 }
 
 void CompactStrategy::add_regularization(const GaussianModel& model, GaussianModel& grads) const {
@@ -101,8 +91,7 @@ DensityStepReport CompactStrategy::step_post_backward(int iteration, bool last_i
     add_regularization(state.model, grads);
 
   // Blending weights at a reduced size count reduced pixels: scale them to full-size ones.
-  const int divisor = resolution_divisor(iteration);
-  const float pixel_scale = float(divisor * divisor);
+  const float pixel_scale = float(state.resolution_divisor * state.resolution_divisor);
   for (const BackwardStats& stats : views)
     for (std::size_t i = 0; i < n; ++i) {
       if (stats.radii[i] <= 0) continue;

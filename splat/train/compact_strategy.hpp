@@ -30,7 +30,6 @@ class CompactStrategy final : public DensityStrategy {
                   std::size_t train_views, unsigned seed, std::size_t gaussian_count);
 
   std::string name() const override { return "compact"; }
-  int resolution_divisor(int iteration) const override;
   DensityStepReport step_post_backward(int iteration, bool last_iteration, TrainingState& state,
                                        GaussianModel& grads, std::span<const BackwardStats> views) override;
   void step_post_optimizer(int iteration, TrainingState& state, float means_lr) override;

@@ -3,8 +3,7 @@
 // (the shape of gsplat's Strategy: hooks before and after the backward pass), so that the
 // official recipe and the compact one share one loop:
 //
-//   resolution_divisor(it)          which image size this iteration trains at
-//   render, loss, backward
+//   render, loss, backward (at the size the trainer's resolution schedule gives)
 //   step_post_backward(it, ...)     statistics, then growth / pruning / resets of rows
 //   Adam step on the groups the report leaves active
 //   step_post_optimizer(it, ...)    anything that acts on the updated parameters
@@ -37,6 +36,8 @@ struct TrainingState {
   // budget (SplatTrainingConfig::schedule_follows_budget). Phases (grow until, prune until)
   // compare with it; intervals count real iterations. 0 = the iteration itself.
   int schedule_iteration = 0;
+  // The step trained on images reduced by this factor (resolution_schedule.hpp).
+  int resolution_divisor = 1;
 };
 
 // Per-Gaussian results of the iteration's backward pass, all [N] for the current model.
@@ -63,10 +64,6 @@ class DensityStrategy {
  public:
   virtual ~DensityStrategy() = default;
   virtual std::string name() const = 0;
-
-  // The factor by which iteration `iteration` (from 1) renders below the full image size:
-  // 1 = full size, 2 = half width and height, ...
-  virtual int resolution_divisor(int /*iteration*/) const { return 1; }
 
   // Between the backward pass and the optimiser step. `grads` holds the step's gradients (a
   // strategy may add its regularisers' gradients to it; it is not valid for the optimiser

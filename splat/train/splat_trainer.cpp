@@ -16,6 +16,23 @@ namespace splat {
 
 namespace {
 
+// The compact strategy's warm-up; the official recipe trains at full size throughout.
+ResolutionSchedule make_resolution_schedule(const SplatTrainingConfig& config, const Dataset& dataset) {
+  if (config.strategy != "compact") return {};
+  const CompactSettings& c = config.compact;
+  const ResolutionScheduleSettings settings{
+      c.warmup_by_spectrum ? ResolutionShape::kSpectrum : ResolutionShape::kHalving, c.warmup_divisor,
+      c.warmup_until};
+  // The spectrum of a few views spread over the training set stands for all of them.
+  constexpr std::size_t kSpectrumViews = 16;
+  std::vector<const Image*> images;
+  const std::size_t views = dataset.train.size();
+  const std::size_t count = std::min(views, kSpectrumViews);
+  if (settings.shape == ResolutionShape::kSpectrum)
+    for (std::size_t i = 0; i < count; ++i) images.push_back(&dataset.train[i * views / count].image);
+  return ResolutionSchedule(settings, images);
+}
+
 Image clamped(const Image& image) {
   Image out = image;
   for (float& v : out.data) v = std::clamp(v, 0.0f, 1.0f);
@@ -46,6 +63,7 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
   config_.density.white_background =
       config.background[0] == 1.0f && config.background[1] == 1.0f && config.background[2] == 1.0f;
   strategy_ = make_density_strategy(config_, dataset.train.size(), model_.size());
+  resolution_ = make_resolution_schedule(config_, dataset);
   adam_.reset_like(model_);
   last_good_model_ = model_;
   corrections_ = ViewCorrections(dataset, config_, scene_extent_);
@@ -127,7 +145,8 @@ StepResult SplatTrainer::step() {
     active_sh_degree_ = std::min(active_sh_degree_ + 1, model_.sh_degree);
   batch_views_.clear();
   for (int v = 0; v < views; ++v) batch_views_.push_back(next_view());
-  result.resolution_divisor = strategy_->resolution_divisor(iteration);
+  const int phase = int(schedule_iteration(iteration));
+  result.resolution_divisor = resolution_.divisor(phase);
   const Camera recorded = differentiate_views(iteration, result.resolution_divisor, result);
 
   auto start = Clock::now();
@@ -143,7 +162,7 @@ StepResult SplatTrainer::step() {
   start = Clock::now();
   // The run's last iteration only gathers statistics (see DensityStrategy). Extending a
   // finished run with --resume and more iterations therefore misses that one decision.
-  TrainingState state{model_, adam_, rng_, scene_extent_, int(schedule_iteration(iteration))};
+  TrainingState state{model_, adam_, rng_, scene_extent_, phase, result.resolution_divisor};
   result.density = strategy_->step_post_backward(iteration, iteration == config_.iterations, state, batch.gradient,
                                                  batch.views);
   result.timings.densify = ms_since(start);

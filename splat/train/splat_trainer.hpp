@@ -21,6 +21,7 @@
 #include "splat/train/evaluation.hpp"
 #include "splat/train/initial_model.hpp"
 #include "splat/train/process_group.hpp"
+#include "splat/train/resolution_schedule.hpp"
 #include "splat/train/step_result.hpp"
 #include "splat/train/training_config.hpp"
 #include "splat/train/view_corrections.hpp"
@@ -59,6 +60,7 @@ class SplatTrainer {
   const SplatTrainingConfig& config() const { return config_; }
   float scene_extent() const { return scene_extent_; }
   const InitialisationReport& initialisation() const { return initialisation_; }
+  const ResolutionSchedule& resolution_schedule() const { return resolution_; }
   const DensityStrategy& strategy() const { return *strategy_; }
   // Pose refinement's corrections of the training views (none without refine_poses).
   const PoseRefiner& pose_refiner() const { return corrections_.pose_refiner(); }
@@ -126,6 +128,7 @@ class SplatTrainer {
   std::vector<float> means_before_step_;   // what scale_far_steps measures the step from
   AdamState adam_;
   std::unique_ptr<DensityStrategy> strategy_;
+  ResolutionSchedule resolution_;
   std::mt19937 rng_;
   std::vector<std::size_t> view_stack_;  // training views not yet used in this epoch
   int iteration_ = 0;

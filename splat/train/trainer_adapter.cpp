@@ -78,6 +78,8 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
     m["initialisation"] = to_json(trainer_.initialisation());
     m["strategy"] = trainer_.strategy().name();
     m["density_control"] = trainer_.strategy().metrics();
+    if (const ResolutionSchedule& r = trainer_.resolution_schedule(); r.start_divisor() > 1)
+      m["resolution_warmup"] = {{"start_divisor", r.start_divisor()}, {"steps", r.steps()}};
     if (trainer_.config().refine_poses) m["pose_refinement"] = pose_refinement_metrics();
     if (trainer_.config().exposure_compensation) m["exposure_compensation"] = exposure_metrics();
   }

@@ -64,6 +64,7 @@ void describe_settings(Table& t, SplatTrainingConfig& c) {
   CompactSettings& k = c.compact;
   t.number("compact_warmup_divisor", k.warmup_divisor, {1, 64});
   t.number("compact_warmup_until", k.warmup_until, kIterations);
+  t.flag("compact_warmup_by_spectrum", k.warmup_by_spectrum);
   t.number("compact_grow_from", k.grow_from, kIterations);
   t.number("compact_grow_until", k.grow_until, kIterations);
   t.number("compact_grow_interval", k.grow_interval, kPositiveIterations);

@@ -236,20 +236,6 @@ TEST(CompactStrategy, TheLastIterationOnlyGathersStatistics) {
   EXPECT_EQ(f.model.size(), 50u);
 }
 
-TEST(CompactStrategy, WarmUpHalvesTheDivisorAtEqualSteps) {
-  CompactSettings s;
-  s.warmup_divisor = 4;
-  s.warmup_until = 1000;
-  const CompactStrategy strategy(s, {}, 10, 0, 0);
-  EXPECT_EQ(strategy.resolution_divisor(1), 4);
-  EXPECT_EQ(strategy.resolution_divisor(500), 4);
-  EXPECT_EQ(strategy.resolution_divisor(501), 2);
-  EXPECT_EQ(strategy.resolution_divisor(1000), 2);
-  EXPECT_EQ(strategy.resolution_divisor(1001), 1);
-  s.warmup_divisor = 1;
-  EXPECT_EQ(CompactStrategy(s, {}, 10, 0, 0).resolution_divisor(1), 1);
-}
-
 TEST(CompactStrategy, RegularisersAddTheirGradients) {
   Fixture f(10);
   CompactSettings s;
