@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
@@ -20,9 +21,15 @@ namespace {
 ResolutionSchedule make_resolution_schedule(const SplatTrainingConfig& config, const Dataset& dataset) {
   if (config.strategy != "compact") return {};
   const CompactSettings& c = config.compact;
+  // Never below kMinSide pixels on an image's short side: smaller images hold too little to
+  // learn from (and the loss's 11-pixel SSIM window hardly fits).
+  constexpr int kMinSide = 32;
+  int short_side = std::numeric_limits<int>::max();
+  for (const DatasetView& view : dataset.train)
+    short_side = std::min({short_side, view.image.width, view.image.height});
   const ResolutionScheduleSettings settings{
-      c.warmup_by_spectrum ? ResolutionShape::kSpectrum : ResolutionShape::kHalving, c.warmup_divisor,
-      c.warmup_until};
+      c.warmup_by_spectrum ? ResolutionShape::kSpectrum : ResolutionShape::kHalving,
+      std::clamp(short_side / kMinSide, 1, std::max(1, c.warmup_divisor)), c.warmup_until};
   // The spectrum of a few views spread over the training set stands for all of them.
   constexpr std::size_t kSpectrumViews = 16;
   std::vector<const Image*> images;

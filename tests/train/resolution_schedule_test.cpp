@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "splat/core/error.hpp"
+#include "splat/data/orbit_cameras.hpp"
+#include "splat/train/splat_trainer.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -88,6 +90,42 @@ TEST(ResolutionSchedule, SpectrumShapeStartsWhereAQuarterIsKeptAndEndsAtFullSize
 
 TEST(ResolutionSchedule, SpectrumShapeNeedsImages) {
   EXPECT_THROW(ResolutionSchedule({ResolutionShape::kSpectrum, 4, 1000}, {}), ArgumentError);
+}
+
+// Eight orbit views of a flat grey image of the given size.
+Dataset flat_orbit(int width, int height) {
+  OrbitRig rig;
+  rig.count = 8;
+  rig.width = width;
+  rig.height = height;
+  Dataset dataset;
+  for (const Camera& camera : orbit_cameras(rig)) {
+    DatasetView view;
+    view.camera = camera;
+    view.image = Image(width, height, 3, 0.5f);
+    dataset.train.push_back(view);
+  }
+  dataset.test = {dataset.train[0]};
+  dataset.scene_extent = 1.1f * rig.radius;
+  return dataset;
+}
+
+TEST(ResolutionSchedule, TheTrainerNeverTrainsBelow32PixelsOnTheShortSide) {
+  SplatTrainingConfig config = splat_training_preset("compact");
+  config.random_init_points = 200;
+  config.compact.warmup_by_spectrum = true;
+  config.compact.warmup_divisor = 8;
+  config.compact.warmup_until = 1000;
+  // A flat image keeps its whole spectrum at any size: the schedule starts at its cap.
+  const Dataset large = flat_orbit(320, 256);
+  EXPECT_EQ(SplatTrainer(large, config).resolution_schedule().start_divisor(), 8);
+  const Dataset small = flat_orbit(96, 64);
+  SplatTrainer trainer(small, config);
+  EXPECT_EQ(trainer.resolution_schedule().start_divisor(), 2);
+  EXPECT_EQ(trainer.step().resolution_divisor, 2);
+  // The official recipe trains at full size whatever the warm-up settings say.
+  config.strategy = "official";
+  EXPECT_EQ(SplatTrainer(small, config).resolution_schedule().start_divisor(), 1);
 }
 
 }  // namespace
