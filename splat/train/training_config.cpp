@@ -143,15 +143,16 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
     config.appearance_lr_final_factor = 0.1f;
     config.appearance_lr_decay_from = kLength / 2;
     CompactSettings& c = config.compact;
-    // The first half trains at reduced size, the size growing with the share of the images'
-    // spectrum it holds (DashGaussian's schedule, resolution_schedule.hpp), reaching the full
-    // size as growth ends. At --max-seconds 120 on lego400: 33.69 dB against 33.37 / 33.06; at
-    // native size in 300 s: real_thermos 34.80 against 34.04, real_cup 29.47 against 28.86
-    // (ending the warm-up at 15,000 or 20,000 instead helped lego400 more, 33.9-34.1, and
-    // the real captures less; bench/HISTORY.md, issue 39's third session).
+    // The first fifth trains at reduced size, the size growing with the share of the images'
+    // spectrum it holds (DashGaussian's schedule, resolution_schedule.hpp); full size from
+    // about 7,000 of 50,000. lego400: 34.08 dB at --max-seconds 120 against 33.37 / 33.06,
+    // 36.90 at 900 s against 36.85 / 36.86; native size in 300 s: real_thermos 34.66 against
+    // 34.04, real_cup 29.53 against 28.86. Ending at 25,000, the end of growth, as
+    // DashGaussian does, cost lego400 0.3 dB at 900 s (bench/HISTORY.md, issue 39's third
+    // session): a model trained at 1/d of the size, rendered at full size, scores 16-24 dB.
     c.warmup_by_spectrum = true;
     c.warmup_divisor = 8;
-    c.warmup_until = kLength / 2;
+    c.warmup_until = kLength / 5;
     c.grow_max_fraction = 1.0;
     c.grow_until = kLength / 2;
     // Growth at a lower gradient threshold than the official, with opacity resets every
