@@ -119,7 +119,8 @@ int ResolutionSchedule::divisor(double schedule_iteration) const {
   const double target = std::pow(start_share_, 1.0 - phase);
   std::size_t k = share_.size() - 1;
   while (k > 0 && share_[k] < target) --k;
-  return std::max(1, int(std::floor(SpectrumProfile::scale_at(k))));
+  constexpr int kLastStep = 2;  // half size until `until` (see the header)
+  return std::max(kLastStep, int(std::floor(SpectrumProfile::scale_at(k))));
 }
 
 std::vector<std::pair<int, int>> ResolutionSchedule::steps() const {

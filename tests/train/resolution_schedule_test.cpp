@@ -70,6 +70,7 @@ TEST(ResolutionSchedule, SpectrumShapeStartsWhereAQuarterIsKeptAndEndsAtFullSize
     EXPECT_LE(divisor, previous) << "the size never shrinks, iteration " << iteration;
     previous = divisor;
   }
+  EXPECT_EQ(schedule.divisor(1000), 2) << "half size until the end of the warm-up";
   EXPECT_EQ(schedule.divisor(1001), 1);
   // steps() lists exactly the changes.
   const std::vector<std::pair<int, int>> steps = schedule.steps();
@@ -110,16 +111,16 @@ Dataset flat_orbit(int width, int height) {
   return dataset;
 }
 
-TEST(ResolutionSchedule, TheTrainerNeverTrainsBelow32PixelsOnTheShortSide) {
+TEST(ResolutionSchedule, TheTrainerNeverTrainsBelow64PixelsOnTheShortSide) {
   SplatTrainingConfig config = splat_training_preset("compact");
   config.random_init_points = 200;
   config.compact.warmup_by_spectrum = true;
   config.compact.warmup_divisor = 8;
   config.compact.warmup_until = 1000;
   // A flat image keeps its whole spectrum at any size: the schedule starts at its cap.
-  const Dataset large = flat_orbit(320, 256);
+  const Dataset large = flat_orbit(640, 512);
   EXPECT_EQ(SplatTrainer(large, config).resolution_schedule().start_divisor(), 8);
-  const Dataset small = flat_orbit(96, 64);
+  const Dataset small = flat_orbit(192, 128);
   SplatTrainer trainer(small, config);
   EXPECT_EQ(trainer.resolution_schedule().start_divisor(), 2);
   EXPECT_EQ(trainer.step().resolution_divisor, 2);
