@@ -119,8 +119,9 @@ int ResolutionSchedule::divisor(double schedule_iteration) const {
   const double target = std::pow(start_share_, 1.0 - phase);
   std::size_t k = share_.size() - 1;
   while (k > 0 && share_[k] < target) --k;
-  constexpr int kLastStep = 2;  // half size until `until` (see the header)
-  return std::max(kLastStep, int(std::floor(SpectrumProfile::scale_at(k))));
+  // Half size until `until` (see the header), unless the spectrum starts above it.
+  const int start = int(std::floor(SpectrumProfile::scale_at(share_.size() - 1)));
+  return std::max({1, std::min(2, start), int(std::floor(SpectrumProfile::scale_at(k)))});
 }
 
 std::vector<std::pair<int, int>> ResolutionSchedule::steps() const {

@@ -144,12 +144,11 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
     config.appearance_lr_decay_from = kLength / 2;
     CompactSettings& c = config.compact;
     // The first fifth trains at reduced size, the size growing with the share of the images'
-    // spectrum it holds (DashGaussian's schedule, resolution_schedule.hpp); full size from
-    // about 7,000 of 50,000. lego400: 34.08 dB at --max-seconds 120 against 33.37 / 33.06,
-    // 36.90 at 900 s against 36.85 / 36.86; native size in 300 s: real_thermos 34.66 against
-    // 34.04, real_cup 29.53 against 28.86. Ending at 25,000, the end of growth, as
-    // DashGaussian does, cost lego400 0.3 dB at 900 s (bench/HISTORY.md, issue 39's third
-    // session): a model trained at 1/d of the size, rendered at full size, scores 16-24 dB.
+    // spectrum it holds (DashGaussian's schedule, resolution_schedule.hpp), at half size or
+    // less to schedule iteration 10,000 of 50,000. lego400: 33.99 dB at --max-seconds 120
+    // against 33.37 / 33.06 before any warm-up change, 36.88 at 900 s against 36.85 / 36.86;
+    // real_thermos 35.76 at P6 against 35.66; scenes/ within 0.1 dB at 7,000 iterations; but
+    // real_cup 29.05 at P6 against 29.67 (bench/HISTORY.md, issue 39's fourth session).
     c.warmup_by_spectrum = true;
     c.warmup_divisor = 8;
     c.warmup_until = kLength / 5;

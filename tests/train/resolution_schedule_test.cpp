@@ -81,6 +81,13 @@ TEST(ResolutionSchedule, SpectrumShapeStartsWhereAQuarterIsKeptAndEndsAtFullSize
     EXPECT_EQ(schedule.divisor(steps[i].first), steps[i].second);
     EXPECT_EQ(schedule.divisor(steps[i].first - 1), steps[i - 1].second);
   }
+  // An image keeping a quarter of its spectrum only above half size starts at full size,
+  // and the half-size hold does not shrink it.
+  const Image fine = cosine_image(64, 16, 2.5, 0.05f, 0.4f);
+  const std::vector<const Image*> fine_images{&fine};
+  const ResolutionSchedule full({ResolutionShape::kSpectrum, 8, 1000}, fine_images);
+  EXPECT_EQ(full.start_divisor(), 1);
+  EXPECT_EQ(full.divisor(500), 1);
   // The cap: never below 1/max_divisor.
   EXPECT_EQ(ResolutionSchedule({ResolutionShape::kSpectrum, 2, 1000}, images).start_divisor(), 2);
   // An image whose energy is all at low frequency starts at the cap.
