@@ -94,6 +94,10 @@ class TrainingRun final : public TrainingObserver {
  private:
   void write_outputs(const std::string& stopped_by, double train_seconds);
   nlohmann::json metrics(const std::string& stopped_by, double train_seconds, std::size_t model_bytes) const;
+  // The test views' PSNR by view name (which views a run loses is what a mean hides).
+  nlohmann::json view_psnr_json(const Evaluation& evaluation) const;
+  // A test point's scores, added to its history entry.
+  void add_test_scores(nlohmann::json& entry, const Evaluation& evaluation) const;
   std::filesystem::path model_path() const { return options_.out / trainer_->model_file_name(); }
   // Whether this process writes the outputs: alone, or rank 0 of a data-parallel run.
   bool leads() const { return options_.group == nullptr || options_.group->rank() == 0; }
@@ -150,15 +154,13 @@ void TrainingRun::on_step(const StepResult& step, const LoopState& state) {
 // own, its loss is the mean since the previous entry.
 void TrainingRun::on_score(const Evaluation& evaluation, double, const LoopState& state) {
   last_test_ = evaluation;
-  if (!history_.empty() && history_.back()["iteration"] == state.iteration) {
-    history_.back()["test_psnr"] = evaluation.psnr;
-    history_.back()["test_ssim"] = evaluation.ssim;
-  } else {
+  if (history_.empty() || history_.back()["iteration"] != state.iteration) {
     const double recent_loss = window_.count > 0 ? window_.loss / window_.count : last_loss_;
     history_.push_back({{"iteration", state.iteration}, {"seconds", state.train_seconds},
-                        {"loss", recent_loss}, {"num_gaussians", trainer_->num_gaussians()},
-                        {"test_psnr", evaluation.psnr}, {"test_ssim", evaluation.ssim}});
+                        {"loss", recent_loss}, {"num_gaussians", trainer_->num_gaussians()}});
   }
+  add_test_scores(history_.back(), evaluation);
+
   char line[160];
   std::snprintf(line, sizeof(line), "[test] iteration %d: PSNR %.3f dB, SSIM %.4f over %d views (%s)",
                 state.iteration, evaluation.psnr, evaluation.ssim, evaluation.views,
@@ -252,6 +254,19 @@ nlohmann::json time_to_psnr(const nlohmann::json& history) {
 
 }  // namespace
 
+nlohmann::json TrainingRun::view_psnr_json(const Evaluation& evaluation) const {
+  nlohmann::json by_name = nlohmann::json::object();
+  for (std::size_t i = 0; i < evaluation.view_psnr.size() && i < dataset_.test.size(); ++i)
+    by_name[dataset_.test[i].name] = evaluation.view_psnr[i];
+  return by_name;
+}
+
+void TrainingRun::add_test_scores(nlohmann::json& entry, const Evaluation& evaluation) const {
+  entry["test_psnr"] = evaluation.psnr;
+  entry["test_ssim"] = evaluation.ssim;
+  entry["test_view_psnr"] = view_psnr_json(evaluation);
+}
+
 nlohmann::json TrainingRun::metrics(const std::string& stopped_by, double train_seconds,
                                     std::size_t model_bytes) const {
   nlohmann::json m;
@@ -261,8 +276,10 @@ nlohmann::json TrainingRun::metrics(const std::string& stopped_by, double train_
   m["num_gaussians"] = trainer_->num_gaussians();
   m["num_params"] = trainer_->num_params();
   m["model_bytes"] = model_bytes;
-  if (last_test_)
+  if (last_test_) {
     m["test"] = {{"psnr", last_test_->psnr}, {"ssim", last_test_->ssim}, {"views", last_test_->views}};
+    m["test"]["view_psnr"] = view_psnr_json(*last_test_);
+  }
   m["history"] = history_;
   m["time_to_psnr"] = time_to_psnr(history_);
   m["stopped_by"] = stopped_by;
@@ -288,8 +305,7 @@ void TrainingRun::write_outputs(const std::string& stopped_by, double train_seco
   if (history_.empty() || history_.back()["iteration"] != trainer_->iteration())
     history_.push_back({{"iteration", trainer_->iteration()}, {"seconds", train_seconds},
                         {"loss", last_loss_}, {"num_gaussians", trainer_->num_gaussians()}});
-  history_.back()["test_psnr"] = last_test_->psnr;
-  history_.back()["test_ssim"] = last_test_->ssim;
+  add_test_scores(history_.back(), *last_test_);
   fs::create_directories(options_.out / "test");
   for (std::size_t i = 0; i < renders.size(); ++i)
     write_png(renders[i], options_.out / "test" / (dataset_.test[i].name + ".png"));

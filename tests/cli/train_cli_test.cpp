@@ -91,6 +91,16 @@ TEST(TrainCli, TrainsAndWritesTheContractOutputs) {
     }
   EXPECT_GT(m.at("test").at("psnr").get<double>(), first_psnr + 1.0);
   EXPECT_GT(m.at("test").at("psnr").get<double>(), 18.0);
+  // Every test point scores each test view by name; the mean of those is the test PSNR.
+  for (const auto& h : history)
+    if (h.contains("test_psnr")) {
+      const auto& views = h.at("test_view_psnr");
+      ASSERT_EQ(views.size(), 3u) << h.dump();
+      double sum = 0;
+      for (const auto& [name, psnr] : views.items()) sum += psnr.get<double>();
+      EXPECT_NEAR(sum / 3, h.at("test_psnr").get<double>(), 1e-9) << h.dump();
+    }
+  EXPECT_EQ(m.at("test").at("view_psnr"), history.back().at("test_view_psnr"));
   // Time to quality: the first whole dB above the first score is listed, at a test point,
   // after the test point before it.
   std::vector<int> test_points;
