@@ -119,6 +119,8 @@ bool has_cameras_file(const fs::path& dir) {
 Dataset load_dataset(const fs::path& folder, const DatasetOptions& options) {
   if (options.downscale < 1)
     throw ArgumentError("downscale must be 1 or more, not " + std::to_string(options.downscale));
+  if (options.train_view_stride < 1)
+    throw ArgumentError("the training view stride must be 1 or more, not " + std::to_string(options.train_view_stride));
   std::error_code ec;
   if (!fs::exists(folder, ec)) throw InputError(folder, "dataset folder does not exist");
   if (!fs::is_directory(folder, ec)) throw InputError(folder, "is not a folder");
@@ -134,6 +136,12 @@ Dataset load_dataset(const fs::path& folder, const DatasetOptions& options) {
     throw InputError(folder,
                      "not a dataset folder: expected transforms_train.json (Blender / "
                      "NeRF-synthetic) or sparse/0/ with cameras, images and points3D (COLMAP)");
+  }
+  if (options.train_view_stride > 1) {
+    std::vector<DatasetView> kept;
+    for (std::size_t i = 0; i < dataset.train.size(); i += std::size_t(options.train_view_stride))
+      kept.push_back(std::move(dataset.train[i]));
+    dataset.train = std::move(kept);
   }
   dataset.scene_extent = dataset_detail::scene_extent(dataset.train);
   for (std::vector<DatasetView>* views : {&dataset.train, &dataset.test})

@@ -32,6 +32,9 @@ struct PointCloud {
 struct DatasetOptions {
   float background[3] = {1, 1, 1};  // RGBA images are composited onto this
   int downscale = 1;                // images resampled to 1/downscale (area filter), intrinsics scaled
+  // Keep every k-th training view (in order), the test views as they are: sparser captures of
+  // the same scene, scored on the same views (how a model's quality depends on the views).
+  int train_view_stride = 1;
 };
 
 struct Dataset {
@@ -47,7 +50,8 @@ struct Dataset {
 // transforms_val.json) or a COLMAP folder (sparse/0/{cameras,images,points3D}.{bin,txt} and
 // images/). COLMAP: PINHOLE and SIMPLE_PINHOLE as they are; SIMPLE_RADIAL, RADIAL and OPENCV
 // undistorted on load to a pinhole camera with the same focal length and principal point;
-// test views are every 8th image in name order (i % 8 == 0). Throws InputError naming the
+// test views are every 8th image in name order (i % 8 == 0). With a train_view_stride k,
+// training views i % k == 0 of the rest are kept. Throws InputError naming the
 // file on missing or unreadable images, images of the wrong size, a transforms file without
 // frames, an unknown camera model, an empty point cloud, or a folder of neither kind.
 Dataset load_dataset(const std::filesystem::path& folder, const DatasetOptions& options = {});

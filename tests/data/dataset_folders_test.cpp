@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "tests/data/dataset_test_folders.hpp"
+#include "splat/data/dataset_loading.hpp"
 #include "splat/data/undistort.hpp"
 
 namespace splat {
@@ -274,6 +275,26 @@ TEST(DatasetFolders, ColmapDistortedCamerasAreUndistorted) {
   const Dataset undistorted = load_dataset(zero);
   for (const DatasetView& v : undistorted.train)
     EXPECT_EQ(v.image.data, read_image(zero / "images" / (v.name + ".png")).data) << v.name;
+}
+
+TEST(DatasetFolders, ATrainingViewStrideKeepsEveryKthTrainingViewAndEveryTestView) {
+  const fs::path dir = test::scratch_dir("dataset_colmap_stride");
+  test::write_colmap_folder(dir, folder_model(10), ModelForm::kBinary);
+  DatasetOptions options;
+  options.train_view_stride = 3;
+  const Dataset d = load_dataset(dir, options);
+  // Training views img_01 .. img_07, img_09 in order; every third of them is kept.
+  ASSERT_EQ(d.train.size(), 3u);
+  EXPECT_EQ(d.train[0].name, "img_01");
+  EXPECT_EQ(d.train[1].name, "img_04");
+  EXPECT_EQ(d.train[2].name, "img_07");
+  ASSERT_EQ(d.test.size(), 2u);
+  EXPECT_EQ(d.test[0].name, "img_00");
+  EXPECT_EQ(d.test[1].name, "img_08");
+  // The extent is that of the kept cameras (what a sparser capture would give).
+  EXPECT_FLOAT_EQ(d.scene_extent, dataset_detail::scene_extent(d.train));
+  options.train_view_stride = 0;
+  EXPECT_THROW(load_dataset(dir, options), ArgumentError);
 }
 
 TEST(DatasetFolders, ColmapModelDirectlyInSparse) {
