@@ -36,8 +36,8 @@ DIR/test/<view>.png, DIR/config.json and DIR/checkpoint.ckpt.
   --seed N              random seed (default 0); results do not depend on --threads
   --threads N           worker threads (default: all cores)
   --downscale K         train and evaluate at 1/K of the image size (default 1)
-  --train-views-every K train on every K-th training view only, the test views unchanged
-                        (a sparser capture of the same scene; default 1, all)
+  --train-views N       train on N of the training views, spread evenly through them, the
+                        test views unchanged (a sparser capture of the same scene; default all)
   --max-gaussians N     Gaussian budget: densification never exceeds it (default: none)
   --batch B             views per optimiser step, the loss their mean (default 1); iterations
                         still count views, so --iters must be a multiple of B
@@ -90,7 +90,7 @@ void apply_options(const splat::cli::ArgParser& args, Config& config,
 int train_main(int argc, char** argv, splat::ProcessGroup* ranks) {
   splat::cli::ArgParser args(argc, argv,
                              {"data", "out", "method", "strategy", "iters", "max-seconds", "bg", "seed",
-                              "threads", "downscale", "train-views-every", "max-gaussians", "batch", "test-every",
+                              "threads", "downscale", "train-views", "max-gaussians", "batch", "test-every",
                               "checkpoint-every", "resume", "config"},
                              {"help", "quiet", "refine-poses", "exposure-compensation"});
   if (args.has("help")) {
@@ -135,7 +135,7 @@ int train_main(int argc, char** argv, splat::ProcessGroup* ranks) {
   }
   if (auto n = args.positive_integer("threads")) options.threads = *n;
   if (auto k = args.positive_integer("downscale")) options.dataset.downscale = *k;
-  if (auto k = args.positive_integer("train-views-every")) options.dataset.train_view_stride = *k;
+  if (auto n = args.positive_integer("train-views")) options.dataset.train_views = *n;
   if (auto r = args.value("resume")) options.resume = *r;
   options.quiet = args.has("quiet") || (ranks && ranks->rank() != 0);  // rank 0 reports
   options.group = ranks;

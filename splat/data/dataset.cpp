@@ -119,8 +119,8 @@ bool has_cameras_file(const fs::path& dir) {
 Dataset load_dataset(const fs::path& folder, const DatasetOptions& options) {
   if (options.downscale < 1)
     throw ArgumentError("downscale must be 1 or more, not " + std::to_string(options.downscale));
-  if (options.train_view_stride < 1)
-    throw ArgumentError("the training view stride must be 1 or more, not " + std::to_string(options.train_view_stride));
+  if (options.train_views < 0)
+    throw ArgumentError("the number of training views must be 1 or more, not " + std::to_string(options.train_views));
   std::error_code ec;
   if (!fs::exists(folder, ec)) throw InputError(folder, "dataset folder does not exist");
   if (!fs::is_directory(folder, ec)) throw InputError(folder, "is not a folder");
@@ -137,16 +137,21 @@ Dataset load_dataset(const fs::path& folder, const DatasetOptions& options) {
                      "not a dataset folder: expected transforms_train.json (Blender / "
                      "NeRF-synthetic) or sparse/0/ with cameras, images and points3D (COLMAP)");
   }
-  if (options.train_view_stride > 1) {
-    std::vector<DatasetView> kept;
-    for (std::size_t i = 0; i < dataset.train.size(); i += std::size_t(options.train_view_stride))
-      kept.push_back(std::move(dataset.train[i]));
-    dataset.train = std::move(kept);
-  }
   dataset.scene_extent = dataset_detail::scene_extent(dataset.train);
+  if (options.train_views > 0) keep_training_views(dataset, options.train_views);
   for (std::vector<DatasetView>* views : {&dataset.train, &dataset.test})
     for (DatasetView& view : *views) view.frame_background_share = frame_background_share(view.image, options.background);
   return dataset;
+}
+
+void keep_training_views(Dataset& dataset, int count) {
+  if (count < 1) throw ArgumentError("at least one training view must be kept");
+  const std::size_t n = dataset.train.size();
+  if (std::size_t(count) >= n) return;
+  std::vector<DatasetView> kept;
+  for (std::size_t i = 0; i < std::size_t(count); ++i) kept.push_back(std::move(dataset.train[i * n / std::size_t(count)]));
+  dataset.train = std::move(kept);
+  dataset.scene_extent = dataset_detail::scene_extent(dataset.train);
 }
 
 float frame_background_share(const Image& image, const float background[3]) {

@@ -32,9 +32,9 @@ struct PointCloud {
 struct DatasetOptions {
   float background[3] = {1, 1, 1};  // RGBA images are composited onto this
   int downscale = 1;                // images resampled to 1/downscale (area filter), intrinsics scaled
-  // Keep every k-th training view (in order), the test views as they are: sparser captures of
-  // the same scene, scored on the same views (how a model's quality depends on the views).
-  int train_view_stride = 1;
+  // Train on this many of the training views (keep_training_views), 0 = all; the test views
+  // stay as they are: a sparser capture of the same scene, scored on the same views.
+  int train_views = 0;
 };
 
 struct Dataset {
@@ -50,11 +50,15 @@ struct Dataset {
 // transforms_val.json) or a COLMAP folder (sparse/0/{cameras,images,points3D}.{bin,txt} and
 // images/). COLMAP: PINHOLE and SIMPLE_PINHOLE as they are; SIMPLE_RADIAL, RADIAL and OPENCV
 // undistorted on load to a pinhole camera with the same focal length and principal point;
-// test views are every 8th image in name order (i % 8 == 0). With a train_view_stride k,
-// training views i % k == 0 of the rest are kept. Throws InputError naming the
+// test views are every 8th image in name order (i % 8 == 0). Throws InputError naming the
 // file on missing or unreadable images, images of the wrong size, a transforms file without
 // frames, an unknown camera model, an empty point cloud, or a folder of neither kind.
 Dataset load_dataset(const std::filesystem::path& folder, const DatasetOptions& options = {});
+
+// Keeps `count` of the training views, spread evenly through their order (view i·n/count for
+// i < count; all of them when count ≥ n), and recomputes the scene extent from those kept,
+// as it would be for a dataset that only had them. The test views are untouched.
+void keep_training_views(Dataset& dataset, int count);
 
 // DatasetView::frame_background_share of `image` (RGB) against `background`: a pixel shows
 // the background when every channel is within half an 8-bit level of it.

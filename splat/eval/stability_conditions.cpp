@@ -7,7 +7,6 @@
 #include <random>
 
 #include "splat/core/error.hpp"
-#include "splat/data/dataset_loading.hpp"
 #include "splat/eval/metrics.hpp"
 
 namespace splat {
@@ -28,13 +27,8 @@ glm::dvec3 random_direction(std::mt19937& rng) {
 
 Dataset with_training_views(const Dataset& dataset, int count) {
   if (count < 1) throw ArgumentError("a condition needs at least one training view");
-  const std::size_t n = dataset.train.size();
-  if (std::size_t(count) >= n) return dataset;
-  Dataset reduced;
-  reduced.test = dataset.test;
-  reduced.points = dataset.points;
-  for (int i = 0; i < count; ++i) reduced.train.push_back(dataset.train[std::size_t(i) * n / std::size_t(count)]);
-  reduced.scene_extent = dataset_detail::scene_extent(reduced.train);
+  Dataset reduced = dataset;
+  keep_training_views(reduced, count);
   return reduced;
 }
 

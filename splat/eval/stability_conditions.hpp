@@ -9,9 +9,7 @@
 
 namespace splat {
 
-// `count` training views spread evenly through the original order (view i·n/count for
-// i < count); the whole set when count ≥ its size. The scene extent is recomputed from the
-// views kept, as it would be for a dataset that only had them.
+// A copy of `dataset` with `count` of its training views (keep_training_views).
 Dataset with_training_views(const Dataset& dataset, int count);
 
 // Every training pose perturbed: the camera turned about its own centre by exactly

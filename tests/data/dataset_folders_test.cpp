@@ -277,24 +277,24 @@ TEST(DatasetFolders, ColmapDistortedCamerasAreUndistorted) {
     EXPECT_EQ(v.image.data, read_image(zero / "images" / (v.name + ".png")).data) << v.name;
 }
 
-TEST(DatasetFolders, ATrainingViewStrideKeepsEveryKthTrainingViewAndEveryTestView) {
-  const fs::path dir = test::scratch_dir("dataset_colmap_stride");
+TEST(DatasetFolders, TrainingViewsCanBeThinnedWithTheTestViewsKept) {
+  const fs::path dir = test::scratch_dir("dataset_colmap_train_views");
   test::write_colmap_folder(dir, folder_model(10), ModelForm::kBinary);
   DatasetOptions options;
-  options.train_view_stride = 3;
+  options.train_views = 3;
   const Dataset d = load_dataset(dir, options);
-  // Training views img_01 .. img_07, img_09 in order; every third of them is kept.
+  // Training views img_01 .. img_07, img_09 (8 of them); views 0, 8/3, 16/3 -> 0, 2, 5 are kept.
   ASSERT_EQ(d.train.size(), 3u);
   EXPECT_EQ(d.train[0].name, "img_01");
-  EXPECT_EQ(d.train[1].name, "img_04");
-  EXPECT_EQ(d.train[2].name, "img_07");
+  EXPECT_EQ(d.train[1].name, "img_03");
+  EXPECT_EQ(d.train[2].name, "img_06");
   ASSERT_EQ(d.test.size(), 2u);
   EXPECT_EQ(d.test[0].name, "img_00");
   EXPECT_EQ(d.test[1].name, "img_08");
   // The extent is that of the kept cameras (what a sparser capture would give).
   EXPECT_FLOAT_EQ(d.scene_extent, dataset_detail::scene_extent(d.train));
-  options.train_view_stride = 0;
-  EXPECT_THROW(load_dataset(dir, options), ArgumentError);
+  options.train_views = 50;  // more than there are: all of them
+  EXPECT_EQ(load_dataset(dir, options).train.size(), 8u);
 }
 
 TEST(DatasetFolders, ColmapModelDirectlyInSparse) {
