@@ -265,6 +265,7 @@ void TrainingRun::add_test_scores(nlohmann::json& entry, const Evaluation& evalu
   entry["test_psnr"] = evaluation.psnr;
   entry["test_ssim"] = evaluation.ssim;
   entry["test_view_psnr"] = view_psnr_json(evaluation);
+  entry["test_half_fitted_psnr"] = evaluation.half_fitted_psnr;
 }
 
 nlohmann::json TrainingRun::metrics(const std::string& stopped_by, double train_seconds,
@@ -279,6 +280,7 @@ nlohmann::json TrainingRun::metrics(const std::string& stopped_by, double train_
   if (last_test_) {
     m["test"] = {{"psnr", last_test_->psnr}, {"ssim", last_test_->ssim}, {"views", last_test_->views}};
     m["test"]["view_psnr"] = view_psnr_json(*last_test_);
+    m["test"]["half_fitted_psnr"] = last_test_->half_fitted_psnr;
   }
   m["history"] = history_;
   m["time_to_psnr"] = time_to_psnr(history_);

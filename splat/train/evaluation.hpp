@@ -12,6 +12,7 @@ namespace splat {
 
 struct Evaluation {
   double psnr = 0, ssim = 0;           // means over the views; images clamped to [0, 1]
+  double half_fitted_psnr = 0;         // mean over the views (half_fitted_psnr.hpp)
   int views = 0;
   std::vector<double> view_psnr;       // per view
   std::vector<double> view_render_ms;  // per view: the render alone (not choosing its camera)

@@ -101,6 +101,11 @@ TEST(TrainCli, TrainsAndWritesTheContractOutputs) {
       EXPECT_NEAR(sum / 3, h.at("test_psnr").get<double>(), 1e-9) << h.dump();
     }
   EXPECT_EQ(m.at("test").at("view_psnr"), history.back().at("test_view_psnr"));
+  // The appearance-fitted score (half_fitted_psnr.hpp) is reported beside it: on synthetic
+  // views with fixed light, a fitted gain and offset gain a model little.
+  const double fitted = m.at("test").at("half_fitted_psnr").get<double>();
+  EXPECT_GT(fitted, 18.0);
+  EXPECT_LT(std::abs(fitted - m.at("test").at("psnr").get<double>()), 5.0);
   // Time to quality: the first whole dB above the first score is listed, at a test point,
   // after the test point before it.
   std::vector<int> test_points;
