@@ -156,6 +156,21 @@ void add_stability_chart(const json& stability, std::vector<Chart>& charts) {
   charts.push_back(chart);
 }
 
+// Every stability run's test PSNR against its training time, one series per condition and
+// method: where a curve turns down, the run was better earlier than at its end.
+void add_stability_curves(const json& stability, std::vector<Chart>& charts) {
+  Chart chart{"stability_curves", "Test PSNR over training time under each condition", "training time (s)",
+              "test PSNR (dB)", "set key outside right\n", {}};
+  for (const json& c : stability.at("conditions"))
+    for (const json& r : c.value("runs", json::array())) {
+      Series curve{c.at("name").get<std::string>() + " / " + method_label(r), "linespoints", {}, {}};
+      for (const json& h : r.value("history", json::array()))
+        if (h.contains("test_psnr")) curve.points.emplace_back(h.at("seconds"), h.at("test_psnr"));
+      chart.series.push_back(curve);
+    }
+  charts.push_back(chart);
+}
+
 void write_data(const Chart& chart, const fs::path& file) {
   std::ofstream out(file);
   out << "# " << chart.title << "; one block per series: x y label\n";
@@ -195,7 +210,10 @@ std::vector<std::string> write_charts(const fs::path& out) {
   std::vector<Chart> charts;
   with_result_file(out / "results.json", [&](const json& results) { add_results_charts(results, charts); });
   with_result_file(out / "sweep.json", [&](const json& sweep) { add_sweep_charts(sweep, charts); });
-  with_result_file(out / "stability.json", [&](const json& stability) { add_stability_chart(stability, charts); });
+  with_result_file(out / "stability.json", [&](const json& stability) {
+    add_stability_chart(stability, charts);
+    add_stability_curves(stability, charts);
+  });
   // gnuplot refuses a plot of nothing: no empty series (a NeRF on the Gaussians chart), and no
   // chart without a series (an older file without the figures).
   for (Chart& c : charts)

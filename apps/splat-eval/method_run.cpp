@@ -130,6 +130,13 @@ MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, Ev
   const double final_psnr = history.back()["test_psnr"], final_ssim = history.back()["test_ssim"];
   j["history"] = history;
   j["final"] = {{"psnr", final_psnr}, {"ssim", final_ssim}, {"views", dataset.test.size()}};
+  // A model that was better earlier in the run than at its end: how much it lost (real
+  // captures can learn, late, what explains the training views and spoils the rest).
+  const nlohmann::json* best = &history.back();
+  for (const nlohmann::json& entry : history)
+    if (entry["test_psnr"].get<double>() > (*best)["test_psnr"].get<double>()) best = &entry;
+  j["best"] = {{"psnr", (*best)["test_psnr"]}, {"iteration", (*best)["iteration"]}, {"seconds", (*best)["seconds"]}};
+  j["drop_from_best"] = (*best)["test_psnr"].get<double>() - final_psnr;
   if (strategy) j["num_gaussians"] = trainer->num_gaussians();
   j["num_params"] = trainer->num_params();
   j["model_bytes"] = fs::file_size(model_file);

@@ -38,7 +38,8 @@ struct MethodRunRequest {
 
 struct MethodRun {
   // method, strategy (splat methods), history [{seconds, iteration, test_psnr, test_ssim,
-  // num_gaussians, model_bytes}], final {psnr, ssim, views}, num_gaussians (splat methods),
+  // num_gaussians, model_bytes}], final {psnr, ssim, views}, best {psnr, iteration, seconds}
+  // (the best test point), drop_from_best (its PSNR minus the final), num_gaussians (splat methods),
   // num_params, model_bytes, model_file
   // (relative to out_root), iterations, train_seconds, eval_seconds, stopped_by,
   // render_ms_per_view_median (with renders), config; or, when training diverged,

@@ -162,13 +162,13 @@ void stability_section(std::ostream& html, const fs::path& out, const json& s) {
     }
   html << "</ul>\n<table><tr><th>condition</th><th>training views</th>";
   for (const std::string& m : methods)
-    html << "<th>" << escaped(m) << " PSNR (dB)</th><th>" << escaped(m) << " verdict</th><th>" << escaped(m)
-         << " model (MB)</th>";
+    html << "<th>" << escaped(m) << " PSNR (dB)</th><th>" << escaped(m) << " below its best (dB)</th><th>"
+         << escaped(m) << " verdict</th><th>" << escaped(m) << " model (MB)</th>";
   html << "</tr>\n";
   for (const json& c : s.at("conditions")) {
     html << "<tr><td>" << escaped(c.at("name")) << "</td>";
     if (c.contains("skipped")) {
-      html << "<td colspan=\"" << 1 + 3 * methods.size() << "\">not run: " << escaped(c.at("skipped")) << "</td></tr>\n";
+      html << "<td colspan=\"" << 1 + 4 * methods.size() << "\">not run: " << escaped(c.at("skipped")) << "</td></tr>\n";
       continue;
     }
     html << "<td>" << c.at("train_views") << "</td>";
@@ -176,7 +176,7 @@ void stability_section(std::ostream& html, const fs::path& out, const json& s) {
       const auto run = std::find_if(c.at("runs").begin(), c.at("runs").end(),
                                     [&](const json& r) { return method_label(r) == m; });
       if (run == c.at("runs").end()) {
-        html << "<td colspan=\"3\">not run</td>";
+        html << "<td colspan=\"4\">not run</td>";
         continue;
       }
       const json& r = *run;
@@ -184,7 +184,8 @@ void stability_section(std::ostream& html, const fs::path& out, const json& s) {
       const std::string shown = r.contains("diverged")
                                     ? "diverged at iteration " + r.at("diverged").at("iteration").dump()
                                     : verdict;
-      html << "<td>" << (r.contains("final") ? fixed(r.at("final").at("psnr"), 2) : "&ndash;") << "</td><td class=\""
+      html << "<td>" << (r.contains("final") ? fixed(r.at("final").at("psnr"), 2) : "&ndash;") << "</td><td>"
+           << (r.contains("drop_from_best") ? fixed(r.at("drop_from_best"), 2) : "&ndash;") << "</td><td class=\""
            << verdict << "\">" << escaped(shown) << "</td><td>"
            << (r.contains("model_bytes") ? megabytes(r.at("model_bytes")) : "&ndash;") << "</td>";
     }
@@ -197,6 +198,10 @@ void stability_section(std::ostream& html, const fs::path& out, const json& s) {
             "views.</p>\n";
   pose_error_table(html, s);
   chart(html, out, "stability_psnr");
+  html << "<p>&ldquo;Below its best&rdquo; is the final test PSNR's distance from the best test point of the same "
+          "run: a model that learns late what explains its training views and spoils the others (floaters on real "
+          "captures) ends below its best. The curves of every run:</p>\n";
+  chart(html, out, "stability_curves");
 }
 
 }  // namespace

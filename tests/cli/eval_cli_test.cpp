@@ -312,6 +312,11 @@ TEST(EvalCli, StabilityRunsEveryConditionAndGivesEachRunAVerdict) {
       }
       EXPECT_TRUE(std::isfinite(run.at("final").at("psnr").get<double>()));
       EXPECT_TRUE(fs::exists(out / run.at("model_file").get<std::string>()));
+      // The best test point of the run, and how far the end fell below it.
+      double best = run.at("final").at("psnr");
+      for (const auto& h : run.at("history")) best = std::max(best, h.at("test_psnr").get<double>());
+      EXPECT_EQ(run.at("best").at("psnr").get<double>(), best);
+      EXPECT_NEAR(run.at("drop_from_best").get<double>(), best - run.at("final").at("psnr").get<double>(), 1e-12);
     }
   }
   const std::vector<std::string> expected = {"baseline",
@@ -327,8 +332,10 @@ TEST(EvalCli, StabilityRunsEveryConditionAndGivesEachRunAVerdict) {
                                              "random_init"};
   EXPECT_EQ(names, expected);
   EXPECT_GT(fs::file_size(out / "charts" / "stability_psnr.png"), 1000u);
-  expect_report_files_exist(out, {"charts/stability_psnr.png"});
+  EXPECT_GT(fs::file_size(out / "charts" / "stability_curves.png"), 1000u);
+  expect_report_files_exist(out, {"charts/stability_psnr.png", "charts/stability_curves.png"});
   const std::string report = test::read_file(out / "report.html");
+  EXPECT_NE(report.find("below its best (dB)"), std::string::npos);
   EXPECT_NE(report.find("poses 1° / 1% + refinement"), std::string::npos);
   EXPECT_NE(report.find("aligned to its photograph"), std::string::npos);
   EXPECT_NE(report.find("after refinement"), std::string::npos);
