@@ -44,6 +44,12 @@ struct CompactSettings {
   float prune_weight_after_growth = 0.0f;
   int prune_window = 0;
   int prune_until = 30000;
+  // At the end of every window, Gaussians drawn (a peak weight of at least prune_weight, in
+  // full-size pixels) by fewer than this share of the window's views are pruned too: what one
+  // or two views of many ask for explains those photographs, not the scene. On real captures
+  // such Gaussians sit close in front of the one camera that draws them and spoil the test
+  // views that pass by (bench/HISTORY.md, issue 40). 0 = off.
+  float prune_min_view_share = 0.0f;
 
   // Opacity reset as the official recipe (0 = never).
   int opacity_reset_interval = 0;

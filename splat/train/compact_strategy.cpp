@@ -46,6 +46,13 @@ CompactStrategy::CompactStrategy(const CompactSettings& settings,
                                       : std::max<int>(settings.grow_interval, 2 * int(train_views));
   reset_stats(gaussian_count);
   window_weight_.assign(gaussian_count, 0.0f);
+  if (counts_views()) window_views_.assign(gaussian_count, 0.0f);
+}
+
+std::vector<std::vector<float>*> CompactStrategy::statistics() {
+  std::vector<std::vector<float>*> arrays = {&grad_accum_, &visible_views_, &window_weight_};
+  if (counts_views()) arrays.push_back(&window_views_);
+  return arrays;
 }
 
 void CompactStrategy::reset_stats(std::size_t n) {
@@ -54,7 +61,7 @@ void CompactStrategy::reset_stats(std::size_t n) {
 }
 
 AlignedRows CompactStrategy::rows(TrainingState& state) {
-  return {state.model, state.adam, {&grad_accum_, &visible_views_, &window_weight_}};
+  return {state.model, state.adam, statistics()};
 }
 
 void CompactStrategy::add_regularization(const GaussianModel& model, GaussianModel& grads) const {
@@ -100,7 +107,9 @@ DensityStepReport CompactStrategy::step_post_backward(int iteration, bool last_i
       const float weight = stats.blend_weight[i] * pixel_scale;
       window_weight_[i] = settings_.prune_by_peak_weight ? std::max(window_weight_[i], weight)
                                                          : window_weight_[i] + weight;
+      if (counts_views() && weight >= settings_.prune_weight) window_views_[i] += 1.0f;
     }
+  window_view_count_ += int(views.size());
 
   DensityStepReport report;
   report.count_after = n;
@@ -116,7 +125,11 @@ DensityStepReport CompactStrategy::step_post_backward(int iteration, bool last_i
   const bool window_ends = step_reaches_multiple(iteration, count, window_);
   if (prune_threshold > 0 && iteration >= s.grow_from && phase <= s.prune_until && window_ends)
     prune_by_weight(prune_threshold, state, report);
-  if (window_ends) std::fill(window_weight_.begin(), window_weight_.end(), 0.0f);
+  if (window_ends) {
+    std::fill(window_weight_.begin(), window_weight_.end(), 0.0f);
+    std::fill(window_views_.begin(), window_views_.end(), 0.0f);
+    window_view_count_ = 0;
+  }
   if (s.opacity_reset_interval > 0 && phase <= s.grow_until &&
       step_reaches_multiple(iteration, count, s.opacity_reset_interval)) {
     reset_opacity(state.model, state.adam, s.opacity_reset_value);
@@ -197,8 +210,9 @@ void CompactStrategy::prune_by_weight(float threshold, TrainingState& state,
   const std::size_t n = state.model.size();
   std::vector<std::uint8_t> keep(n, 1);
   std::size_t pruned = 0;
+  const float min_views = settings_.prune_min_view_share * float(window_view_count_);
   for (std::size_t i = 0; i < n; ++i)
-    if (window_weight_[i] < threshold) {
+    if (window_weight_[i] < threshold || (counts_views() && window_views_[i] < min_views)) {
       keep[i] = 0;
       ++pruned;
     }
@@ -229,23 +243,25 @@ void CompactStrategy::step_post_optimizer(int iteration, TrainingState& state, f
 }
 
 std::vector<std::vector<float>*> CompactStrategy::checkpoint_arrays() {
-  return {&grad_accum_, &visible_views_, &window_weight_};
+  return statistics();
 }
 
 nlohmann::json CompactStrategy::checkpoint_state() const {
   return {{"last_growth_iteration", last_growth_iteration_},
           {"total_added", total_added_},
-          {"total_pruned", total_pruned_}};
+          {"total_pruned", total_pruned_},
+          {"window_view_count", window_view_count_}};
 }
 
 void CompactStrategy::checkpoint_loaded(const nlohmann::json& state, std::size_t gaussian_count) {
   if (grad_accum_.size() != gaussian_count || visible_views_.size() != gaussian_count ||
-      window_weight_.size() != gaussian_count)
+      window_weight_.size() != gaussian_count || (counts_views() && window_views_.size() != gaussian_count))
     throw ArgumentError("compact strategy statistics hold " + std::to_string(grad_accum_.size()) +
                         " rows, the model " + std::to_string(gaussian_count));
   last_growth_iteration_ = state.value("last_growth_iteration", 0);
   total_added_ = state.value("total_added", std::size_t(0));
   total_pruned_ = state.value("total_pruned", std::size_t(0));
+  window_view_count_ = state.value("window_view_count", 0);
 }
 
 nlohmann::json CompactStrategy::metrics() const {

@@ -44,6 +44,8 @@ class CompactStrategy final : public DensityStrategy {
   void add_regularization(const GaussianModel& model, GaussianModel& grads) const;
   void grow(int iteration, TrainingState& state, DensityStepReport& report);
   void prune_by_weight(float threshold, TrainingState& state, DensityStepReport& report);
+  bool counts_views() const { return settings_.prune_min_view_share > 0; }
+  std::vector<std::vector<float>*> statistics();
   AlignedRows rows(TrainingState& state);
   void reset_stats(std::size_t n);
 
@@ -56,6 +58,10 @@ class CompactStrategy final : public DensityStrategy {
   std::vector<float> grad_accum_;     // Σ view-space gradient norm since the last growth step
   std::vector<float> visible_views_;  // views where the Gaussian was drawn, same period
   std::vector<float> window_weight_;  // Σ blending weight (full-size pixels) in this window
+  // With prune_min_view_share: views of this window that drew the Gaussian (an extra
+  // checkpoint array only then, so that older checkpoints load as they are).
+  std::vector<float> window_views_;
+  int window_view_count_ = 0;  // views in this window so far
 
   // Decisions, for metrics.json.
   int last_growth_iteration_ = 0;  // last growth step that added Gaussians

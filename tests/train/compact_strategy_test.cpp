@@ -179,6 +179,36 @@ TEST(CompactStrategy, PruningComparesTheSummedOrThePeakBlendingWeight) {
   }
 }
 
+// A window of 10 views: rows 0-9 are drawn strongly in every view, rows 10-19 in one view only
+// (a floater in front of one camera), rows 20-29 in two, rows 30-39 in every view but faintly.
+// With a minimum share of 0.15 (1.5 views), the one-view rows go; the faint rows go by weight.
+TEST(CompactStrategy, PruningRemovesWhatTooFewViewsDraw) {
+  for (float share : {0.0f, 0.15f}) {
+    Fixture f(40);
+    CompactSettings s;
+    s.grow_from = 0;
+    s.grow_until = 0;
+    s.prune_window = 10;
+    s.prune_weight = 1.0f;
+    s.prune_by_peak_weight = true;
+    s.prune_min_view_share = share;
+    CompactStrategy strategy(s, {}, 10, 0, f.model.size());
+    run_iterations(strategy, f, 1, 10, 0.0f, [](std::size_t i, int it) {
+      if (i < 10) return 2.0f;
+      if (i < 20) return it == 3 ? 5.0f : 0.1f;
+      if (i < 30) return it == 3 || it == 7 ? 5.0f : 0.1f;
+      return 0.5f;
+    });
+    ASSERT_EQ(f.model.size(), share > 0 ? 20u : 30u) << "share " << share;
+    for (std::size_t r = 0; r < f.model.size(); ++r) {
+      const int original_row = int(Fixture::tag(f.model, r)) - 1;
+      EXPECT_TRUE(original_row < 30 && (share == 0 || original_row < 10 || original_row >= 20))
+          << "share " << share << ": row " << r << " was row " << original_row;
+    }
+    f.expect_moments_follow_rows();
+  }
+}
+
 // Every row is drawn with a peak weight of 2 pixels (even rows) or 4 (odd rows). While the
 // model may grow (to iteration 15) the threshold is 1 and nothing goes; the first window
 // after growth applies the after-growth threshold of 3 and prunes the even rows.
