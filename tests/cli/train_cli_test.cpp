@@ -163,6 +163,33 @@ TEST(TrainCli, ResumeContinuesExactly) {
   }
 }
 
+// Pruning by the share of views that draw a Gaussian keeps a per-window count of views: a
+// checkpoint taken mid-window (windows of 16 views here) carries it, and older checkpoints,
+// which lack it, need it only when the setting is on.
+TEST(TrainCli, ResumeContinuesExactlyWithPruningByViewShare) {
+  const fs::path dir = test::scratch_dir("train_cli_resume_view_share");
+  nlohmann::json config = read_json(tiny_dataset() / "tiny_config.json");
+  config["compact_prune_min_view_share"] = 0.3;
+  test::write_text(dir / "config.json", config.dump());
+  const auto command = [&](const fs::path& out, const std::string& extra) {
+    return std::string(SPLAT_TRAIN_EXE) + " --data " + tiny_dataset().string() + " --out " + out.string() +
+           " --config " + (dir / "config.json").string() + " --quiet " + extra;
+  };
+  auto r = test::run_command(command(dir / "straight", "--iters 240"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_command(train_command(dir / "plain", "--iters 240 --quiet"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_LT(read_json(dir / "straight" / "metrics.json").at("num_gaussians").get<int>(),
+            read_json(dir / "plain" / "metrics.json").at("num_gaussians").get<int>())
+      << "the view share pruned nothing";
+  r = test::run_command(command(dir / "split", "--iters 120 --checkpoint-every 120"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_command(command(dir / "split", "--iters 240 --resume " + (dir / "split").string()), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(test::read_file(dir / "straight" / "model.ply") == test::read_file(dir / "split" / "model.ply"))
+      << "the resumed run's model differs from the uninterrupted run's";
+}
+
 // --batch B: a step trains on B views and the iterations still count views; a run split by a
 // checkpoint is the same run.
 TEST(TrainCli, BatchesOfViewsCountIterationsInViewsAndResumeExactly) {
