@@ -136,7 +136,7 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
   for (GaussianModel* g : {&model_, &adam_.first_moment, &adam_.second_moment})
     for (const ParameterGroup& group : kParameterGroups) read_array(in, group.of(*g), remaining, file);
   // The checkpoint's config named the strategy: its statistics follow the moments.
-  strategy_ = make_density_strategy(config_, dataset_.train.size(), 0);
+  strategy_ = make_density_strategy(config_, dataset_, 0);
   for (std::vector<float>* a : strategy_->checkpoint_arrays()) read_array(in, *a, remaining, file);
   // The checkpoint's config also says which per-view corrections there are.
   corrections_ = ViewCorrections(dataset_, config_, scene_extent_);

@@ -56,6 +56,12 @@ struct CompactSettings {
   // captures that is where the floaters in front of a camera sit. Geometry alone decides,
   // not how strongly a view draws it (prune_min_view_share). 0 = off.
   float prune_min_frame_views = 0.0f;
+  // At the end of every window, to the end of the run, Gaussians inside a training camera's
+  // frame nearer than this factor × that camera's near bound (the depth its structure-from-
+  // motion points begin at, points_near_bounds.hpp) are pruned: they sit in space the capture
+  // shows empty, in front of everything the photographs were matched on. Only on data with a
+  // point cloud (COLMAP); 0 = off.
+  float prune_before_points = 0.0f;
 
   // Opacity reset as the official recipe (0 = never).
   int opacity_reset_interval = 0;

@@ -36,8 +36,13 @@ Vec3<float> normal3(unsigned seed, int iteration, std::size_t index) {
 
 CompactStrategy::CompactStrategy(const CompactSettings& settings,
                                  const DensityControlSettings& density, std::size_t train_views,
-                                 unsigned seed, std::size_t gaussian_count)
-    : settings_(settings), density_(density), seed_(seed), train_views_(std::max<std::size_t>(1, train_views)) {
+                                 unsigned seed, std::size_t gaussian_count,
+                                 std::vector<CameraNearBound> near_bounds)
+    : settings_(settings),
+      density_(density),
+      seed_(seed),
+      train_views_(std::max<std::size_t>(1, train_views)),
+      near_bounds_(std::move(near_bounds)) {
   if (settings.grow_interval < 1) throw ArgumentError("compact strategy: grow_interval must be >= 1");
   if (!(settings.grow_max_fraction >= 0)) throw ArgumentError("compact strategy: grow_max_fraction must be >= 0");
   // Views come in shuffled epochs, so only a window of two epochs' length is sure to hold
@@ -128,6 +133,10 @@ DensityStepReport CompactStrategy::step_post_backward(int iteration, bool last_i
   const bool window_ends = step_reaches_multiple(iteration, count, window_);
   if (prune_threshold > 0 && iteration >= s.grow_from && phase <= s.prune_until && window_ends)
     prune_by_weight(prune_threshold, state, report);
+  // Geometry, not contribution: kept up to the end, since what sits in front of the points
+  // is wrong however late it got there.
+  if (s.prune_before_points > 0 && !near_bounds_.empty() && iteration >= s.grow_from && window_ends)
+    prune_before_points(state, report);
   if (window_ends) {
     std::fill(window_weight_.begin(), window_weight_.end(), 0.0f);
     std::fill(window_views_.begin(), window_views_.end(), 0.0f);
@@ -232,6 +241,26 @@ void CompactStrategy::prune_by_weight(float threshold, TrainingState& state,
   total_pruned_ += pruned;
 }
 
+void CompactStrategy::prune_before_points(TrainingState& state, DensityStepReport& report) {
+  const GaussianModel& model = state.model;
+  const std::size_t n = model.size();
+  std::vector<std::uint8_t> keep(n, 1);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      const glm::vec3 p(model.means[3 * i], model.means[3 * i + 1], model.means[3 * i + 2]);
+      keep[i] = !in_front_of_points(near_bounds_, p, settings_.prune_before_points);
+    }
+  });
+  const std::size_t pruned = n - std::size_t(std::count(keep.begin(), keep.end(), std::uint8_t(1)));
+  if (pruned == 0) return;
+  AlignedRows aligned = rows(state);
+  aligned.keep(keep);
+  report.densified = true;
+  report.pruned += pruned;
+  total_pruned_ += pruned;
+  total_pruned_before_points_ += pruned;
+}
+
 void CompactStrategy::step_post_optimizer(int iteration, TrainingState& state, float means_lr) {
   if (settings_.noise_lr <= 0) return;
   // MCMC's exploration noise: N(0, Σ) scaled by the means' step, switched on smoothly as the
@@ -258,7 +287,8 @@ nlohmann::json CompactStrategy::checkpoint_state() const {
   return {{"last_growth_iteration", last_growth_iteration_},
           {"total_added", total_added_},
           {"total_pruned", total_pruned_},
-          {"window_view_count", window_view_count_}};
+          {"window_view_count", window_view_count_},
+          {"total_pruned_before_points", total_pruned_before_points_}};
 }
 
 void CompactStrategy::checkpoint_loaded(const nlohmann::json& state, std::size_t gaussian_count) {
@@ -271,12 +301,15 @@ void CompactStrategy::checkpoint_loaded(const nlohmann::json& state, std::size_t
   total_added_ = state.value("total_added", std::size_t(0));
   total_pruned_ = state.value("total_pruned", std::size_t(0));
   window_view_count_ = state.value("window_view_count", 0);
+  total_pruned_before_points_ = state.value("total_pruned_before_points", std::size_t(0));
 }
 
 nlohmann::json CompactStrategy::metrics() const {
   return {{"last_growth_iteration", last_growth_iteration_},
           {"gaussians_added", total_added_},
           {"gaussians_pruned", total_pruned_},
+          {"gaussians_pruned_before_points", total_pruned_before_points_},
+          {"near_bounds", near_bounds_.size()},
           {"prune_window", window_}};
 }
 

@@ -19,6 +19,7 @@
 #include "splat/optim/density_control.hpp"
 #include "splat/train/compact_settings.hpp"
 #include "splat/train/density_strategy.hpp"
+#include "splat/train/points_near_bounds.hpp"
 
 namespace splat {
 
@@ -26,8 +27,11 @@ class CompactStrategy final : public DensityStrategy {
  public:
   // `density` supplies the shared clone/split settings (percent_dense, split count and
   // divisor) and the hard cap max_gaussians; `train_views` sets the default window.
+  // `near_bounds`: the training cameras' near bounds (points_near_bounds.hpp) that
+  // prune_before_points compares with; none, and that pruning does nothing.
   CompactStrategy(const CompactSettings& settings, const DensityControlSettings& density,
-                  std::size_t train_views, unsigned seed, std::size_t gaussian_count);
+                  std::size_t train_views, unsigned seed, std::size_t gaussian_count,
+                  std::vector<CameraNearBound> near_bounds = {});
 
   std::string name() const override { return "compact"; }
   DensityStepReport step_post_backward(int iteration, bool last_iteration, TrainingState& state,
@@ -44,6 +48,7 @@ class CompactStrategy final : public DensityStrategy {
   void add_regularization(const GaussianModel& model, GaussianModel& grads) const;
   void grow(int iteration, TrainingState& state, DensityStepReport& report);
   void prune_by_weight(float threshold, TrainingState& state, DensityStepReport& report);
+  void prune_before_points(TrainingState& state, DensityStepReport& report);
   bool counts_views() const { return settings_.prune_min_view_share > 0; }
   bool counts_frames() const { return settings_.prune_min_frame_views > 0; }
   std::vector<std::vector<float>*> statistics();
@@ -55,6 +60,7 @@ class CompactStrategy final : public DensityStrategy {
   unsigned seed_;
   int window_;  // iterations per pruning window
   std::size_t train_views_;
+  std::vector<CameraNearBound> near_bounds_;
 
   // [N] statistics, aligned with the model's rows.
   std::vector<float> grad_accum_;     // Σ view-space gradient norm since the last growth step
@@ -71,6 +77,7 @@ class CompactStrategy final : public DensityStrategy {
   // Decisions, for metrics.json.
   int last_growth_iteration_ = 0;  // last growth step that added Gaussians
   std::size_t total_added_ = 0, total_pruned_ = 0;
+  std::size_t total_pruned_before_points_ = 0;  // of total_pruned_
 };
 
 }  // namespace splat

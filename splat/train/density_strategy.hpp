@@ -25,6 +25,7 @@
 namespace splat {
 
 struct SplatTrainingConfig;
+struct Dataset;
 
 // What the loop lends a strategy for one hook call.
 struct TrainingState {
@@ -93,10 +94,10 @@ class DensityStrategy {
   virtual nlohmann::json metrics() const { return nlohmann::json::object(); }
 };
 
-// The strategy named by config.strategy, for a dataset of `train_views` training views and
-// a model of `gaussian_count` rows.
+// The strategy named by config.strategy, for training on `dataset` (its training views and,
+// where a setting asks, its cameras and points) and a model of `gaussian_count` rows.
 std::unique_ptr<DensityStrategy> make_density_strategy(const SplatTrainingConfig& config,
-                                                       std::size_t train_views,
+                                                       const Dataset& dataset,
                                                        std::size_t gaussian_count);
 
 }  // namespace splat

@@ -71,7 +71,7 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
   if (config_.schedule_iterations == 0) config_.schedule_iterations = config_.iterations;
   config_.density.white_background =
       config.background[0] == 1.0f && config.background[1] == 1.0f && config.background[2] == 1.0f;
-  strategy_ = make_density_strategy(config_, dataset.train.size(), model_.size());
+  strategy_ = make_density_strategy(config_, dataset, model_.size());
   resolution_ = make_resolution_schedule(config_, dataset);
   adam_.reset_like(model_);
   last_good_model_ = model_;

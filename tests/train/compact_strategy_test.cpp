@@ -246,6 +246,40 @@ TEST(CompactStrategy, PruningRemovesWhatTooFewViewsHoldInTheirFrame) {
   }
 }
 
+// One camera at the origin looking down +z whose points begin at depth 10: at the end of each
+// window, the rows placed at depth 4 (in front of half of that) go, those at depth 8 stay, and
+// without bounds (data without points) nothing goes.
+TEST(CompactStrategy, PruningRemovesWhatSitsInFrontOfTheCamerasPoints) {
+  Camera camera;
+  camera.fx = camera.fy = 100;
+  camera.cx = camera.cy = 50;
+  camera.width = camera.height = 100;
+  for (bool with_bounds : {false, true}) {
+    Fixture f(20);
+    for (std::size_t i = 0; i < 20; ++i) {
+      f.model.means[3 * i] = 0.01f * float(i);
+      f.model.means[3 * i + 1] = 0.0f;
+      f.model.means[3 * i + 2] = i % 2 == 0 ? 4.0f : 8.0f;
+    }
+    CompactSettings s;
+    s.grow_from = 0;
+    s.grow_until = 0;
+    s.prune_window = 10;
+    s.prune_before_points = 0.5f;
+    std::vector<CameraNearBound> bounds;
+    if (with_bounds) bounds.push_back({camera, 10.0f});
+    CompactStrategy strategy(s, {}, 10, 0, f.model.size(), bounds);
+    run_iterations(strategy, f, 1, 9, 0.0f, 1.0f);
+    ASSERT_EQ(f.model.size(), 20u) << "pruned before the window ended";
+    run_iterations(strategy, f, 10, 10, 0.0f, 1.0f);
+    ASSERT_EQ(f.model.size(), with_bounds ? 10u : 20u);
+    for (std::size_t r = 0; r < f.model.size(); ++r)
+      EXPECT_TRUE(!with_bounds || f.model.means[3 * r + 2] == 8.0f) << "row " << r;
+    f.expect_moments_follow_rows();
+    EXPECT_EQ(strategy.metrics().at("gaussians_pruned_before_points").get<std::size_t>(), with_bounds ? 10u : 0u);
+  }
+}
+
 // Every row is drawn with a peak weight of 2 pixels (even rows) or 4 (odd rows). While the
 // model may grow (to iteration 15) the threshold is 1 and nothing goes; the first window
 // after growth applies the after-growth threshold of 3 and prunes the even rows.
