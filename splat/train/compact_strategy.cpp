@@ -222,23 +222,14 @@ void CompactStrategy::prune_by_weight(float threshold, TrainingState& state,
                                        DensityStepReport& report) {
   const std::size_t n = state.model.size();
   std::vector<std::uint8_t> keep(n, 1);
-  std::size_t pruned = 0;
   const float min_views = settings_.prune_min_view_share * float(window_view_count_);
   // The window's views counted in epochs of the training views: each view is in it that
   // many times.
   const float min_frames = settings_.prune_min_frame_views * float(window_view_count_) / float(train_views_);
   for (std::size_t i = 0; i < n; ++i)
-    if (window_weight_[i] < threshold || (counts_views() && window_views_[i] < min_views) ||
-        (counts_frames() && window_frames_[i] < min_frames)) {
-      keep[i] = 0;
-      ++pruned;
-    }
-  if (pruned == 0) return;
-  AlignedRows aligned = rows(state);
-  aligned.keep(keep);
-  report.densified = true;
-  report.pruned += pruned;
-  total_pruned_ += pruned;
+    keep[i] = !(window_weight_[i] < threshold || (counts_views() && window_views_[i] < min_views) ||
+                (counts_frames() && window_frames_[i] < min_frames));
+  remove_rows(keep, state, report);
 }
 
 void CompactStrategy::prune_before_points(TrainingState& state, DensityStepReport& report) {
@@ -251,14 +242,19 @@ void CompactStrategy::prune_before_points(TrainingState& state, DensityStepRepor
       keep[i] = !in_front_of_points(near_bounds_, p, settings_.prune_before_points);
     }
   });
-  const std::size_t pruned = n - std::size_t(std::count(keep.begin(), keep.end(), std::uint8_t(1)));
-  if (pruned == 0) return;
+  total_pruned_before_points_ += remove_rows(keep, state, report);
+}
+
+std::size_t CompactStrategy::remove_rows(const std::vector<std::uint8_t>& keep, TrainingState& state,
+                                         DensityStepReport& report) {
+  const std::size_t pruned = std::size_t(std::count(keep.begin(), keep.end(), std::uint8_t(0)));
+  if (pruned == 0) return 0;
   AlignedRows aligned = rows(state);
   aligned.keep(keep);
   report.densified = true;
   report.pruned += pruned;
   total_pruned_ += pruned;
-  total_pruned_before_points_ += pruned;
+  return pruned;
 }
 
 void CompactStrategy::step_post_optimizer(int iteration, TrainingState& state, float means_lr) {

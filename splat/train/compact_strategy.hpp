@@ -49,6 +49,10 @@ class CompactStrategy final : public DensityStrategy {
   void grow(int iteration, TrainingState& state, DensityStepReport& report);
   void prune_by_weight(float threshold, TrainingState& state, DensityStepReport& report);
   void prune_before_points(TrainingState& state, DensityStepReport& report);
+  // Removes the rows `keep` marks 0 from the model and every array aligned with it, and
+  // counts them as pruned; returns how many.
+  std::size_t remove_rows(const std::vector<std::uint8_t>& keep, TrainingState& state,
+                          DensityStepReport& report);
   bool counts_views() const { return settings_.prune_min_view_share > 0; }
   bool counts_frames() const { return settings_.prune_min_frame_views > 0; }
   std::vector<std::vector<float>*> statistics();

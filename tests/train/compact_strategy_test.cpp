@@ -83,6 +83,16 @@ CompactSettings growth_settings() {
   return s;
 }
 
+// Pruning alone: no growth, a window of 10 views, a weight threshold of `weight` pixels.
+CompactSettings pruning_settings(float weight) {
+  CompactSettings s;
+  s.grow_from = 0;
+  s.grow_until = 0;
+  s.prune_window = 10;
+  s.prune_weight = weight;
+  return s;
+}
+
 // Iterations first..last with every row's gradient norm `grad` and blending weight
 // weight_of(row, iteration).
 void run_iterations(CompactStrategy& strategy, Fixture& f, int first, int last, float grad,
@@ -161,11 +171,7 @@ TEST(CompactStrategy, AdamMomentsStayWithTheirRowsThroughGrowthPruningAndRelocat
 TEST(CompactStrategy, PruningComparesTheSummedOrThePeakBlendingWeight) {
   for (bool peak : {false, true}) {
     Fixture f(40);
-    CompactSettings s;
-    s.grow_from = 0;
-    s.grow_until = 0;
-    s.prune_window = 10;
-    s.prune_weight = peak ? 3.0f : 8.0f;
+    CompactSettings s = pruning_settings(peak ? 3.0f : 8.0f);
     s.prune_by_peak_weight = peak;
     CompactStrategy strategy(s, {}, 10, 0, f.model.size());
     run_iterations(strategy, f, 1, 10, 0.0f, [](std::size_t i, int it) {
@@ -185,11 +191,7 @@ TEST(CompactStrategy, PruningComparesTheSummedOrThePeakBlendingWeight) {
 TEST(CompactStrategy, PruningRemovesWhatTooFewViewsDraw) {
   for (float share : {0.0f, 0.15f}) {
     Fixture f(40);
-    CompactSettings s;
-    s.grow_from = 0;
-    s.grow_until = 0;
-    s.prune_window = 10;
-    s.prune_weight = 1.0f;
+    CompactSettings s = pruning_settings(1.0f);
     s.prune_by_peak_weight = true;
     s.prune_min_view_share = share;
     CompactStrategy strategy(s, {}, 10, 0, f.model.size());
@@ -216,11 +218,7 @@ TEST(CompactStrategy, PruningRemovesWhatTooFewViewsDraw) {
 TEST(CompactStrategy, PruningRemovesWhatTooFewViewsHoldInTheirFrame) {
   for (float min_views : {0.0f, 1.5f}) {
     Fixture f(30);
-    CompactSettings s;
-    s.grow_from = 0;
-    s.grow_until = 0;
-    s.prune_window = 10;
-    s.prune_weight = 1.0f;
+    CompactSettings s = pruning_settings(1.0f);
     s.prune_by_peak_weight = true;
     s.prune_min_frame_views = min_views;
     CompactStrategy strategy(s, {}, 5, 0, f.model.size());
@@ -261,10 +259,7 @@ TEST(CompactStrategy, PruningRemovesWhatSitsInFrontOfTheCamerasPoints) {
       f.model.means[3 * i + 1] = 0.0f;
       f.model.means[3 * i + 2] = i % 2 == 0 ? 4.0f : 8.0f;
     }
-    CompactSettings s;
-    s.grow_from = 0;
-    s.grow_until = 0;
-    s.prune_window = 10;
+    CompactSettings s = pruning_settings(0.0f);
     s.prune_before_points = 0.5f;
     std::vector<CameraNearBound> bounds;
     if (with_bounds) bounds.push_back({camera, 10.0f});
