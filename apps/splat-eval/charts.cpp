@@ -171,6 +171,23 @@ void add_stability_curves(const json& stability, std::vector<Chart>& charts) {
   charts.push_back(chart);
 }
 
+// A real capture's baseline runs alone, one curve per method: does training hold its best on
+// photographs.
+void add_real_capture_curves(const json& stability, std::vector<Chart>& charts) {
+  if (!stability.value("real_capture", false)) return;
+  Chart chart{"stability_real_capture", "Real capture: test PSNR over training time, every method",
+              "training time (s)", "test PSNR (dB)", "", {}};
+  for (const json& c : stability.at("conditions"))
+    if (c.at("kind") == "baseline")
+      for (const json& r : c.value("runs", json::array())) {
+        Series curve{method_label(r), "linespoints lw 2", {}, {}};
+        for (const json& h : r.value("history", json::array()))
+          if (h.contains("test_psnr")) curve.points.emplace_back(h.at("seconds"), h.at("test_psnr"));
+        chart.series.push_back(curve);
+      }
+  charts.push_back(chart);
+}
+
 void write_data(const Chart& chart, const fs::path& file) {
   std::ofstream out(file);
   out << "# " << chart.title << "; one block per series: x y label\n";
@@ -213,6 +230,7 @@ std::vector<std::string> write_charts(const fs::path& out) {
   with_result_file(out / "stability.json", [&](const json& stability) {
     add_stability_chart(stability, charts);
     add_stability_curves(stability, charts);
+    add_real_capture_curves(stability, charts);
   });
   // gnuplot refuses a plot of nothing: no empty series (a NeRF on the Gaussians chart), and no
   // chart without a series (an older file without the figures).

@@ -143,6 +143,33 @@ void pose_error_table(std::ostream& html, const json& s) {
        << rows.str() << "</table>\n";
 }
 
+// On a real capture, the baseline row asks whether training holds its best: per method, the
+// best test point, the final score, the distance between them, and the curve.
+void real_capture_table(std::ostream& html, const fs::path& out, const json& s) {
+  if (!s.value("real_capture", false)) return;
+  const auto baseline = std::find_if(s.at("conditions").begin(), s.at("conditions").end(),
+                                     [](const json& c) { return c.at("kind") == "baseline"; });
+  if (baseline == s.at("conditions").end() || !baseline->contains("runs")) return;
+  html << "<h3>Real capture: does training hold its best?</h3>\n<p>The photographs with their structure-from-motion "
+          "poses, all training views: each method's best test point, its final score, and whether it holds its best"
+       << (s.at("rules").contains("holds_best") ? " (" + escaped(s.at("rules").at("holds_best")) + ")" : std::string())
+       << ".</p>\n<table><tr><th>method</th><th>best PSNR (dB)</th><th>at (s)</th><th>final PSNR (dB)</th>"
+          "<th>below its best (dB)</th><th>holds its best</th></tr>\n";
+  for (const json& r : baseline->at("runs")) {
+    html << "<tr><td>" << escaped(method_label(r)) << "</td>";
+    if (!r.contains("best") || !r.contains("final")) {
+      html << "<td colspan=\"5\">" << escaped(r.at("verdict")) << "</td></tr>\n";
+      continue;
+    }
+    const bool holds = r.value("holds_best", false);
+    html << "<td>" << fixed(r.at("best").at("psnr"), 2) << "</td><td>" << seconds(r.at("best").at("seconds"))
+         << "</td><td>" << fixed(r.at("final").at("psnr"), 2) << "</td><td>" << fixed(r.at("drop_from_best"), 2)
+         << "</td><td class=\"" << (holds ? "ok" : "degraded") << "\">" << (holds ? "yes" : "no") << "</td></tr>\n";
+  }
+  html << "</table>\n";
+  chart(html, out, "stability_real_capture");
+}
+
 void stability_section(std::ostream& html, const fs::path& out, const json& s) {
   html << "<h2>Stability: where the methods fail</h2>\n<p>Dataset <code>" << escaped(s.at("data")) << "</code> ("
        << s.at("train_views") << " training views); every run trained " << seconds(s.at("budget_seconds"))
@@ -196,6 +223,7 @@ void stability_section(std::ostream& html, const fs::path& out, const json& s) {
     html << "<p>Rows marked &ldquo;+ refinement&rdquo; trained with <code>--refine-poses</code>: " << escaped(protocol)
          << ". The pose noise rows are trained on the perturbed poses; every row is scored against the same test "
             "views.</p>\n";
+  real_capture_table(html, out, s);
   pose_error_table(html, s);
   chart(html, out, "stability_psnr");
   html << "<p>&ldquo;Below its best&rdquo; is the final test PSNR's distance from the best test point of the same "

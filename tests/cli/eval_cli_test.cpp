@@ -236,6 +236,26 @@ TEST(EvalCli, ComparesTheMethodsOnACOLMAPCapture) {
   for (const auto& m : j.at("methods")) EXPECT_TRUE(std::isfinite(m.at("final").at("psnr").get<double>())) << m.dump();
   EXPECT_TRUE(fs::exists(dir / "out" / "grids" / "img_10.png"));
   expect_report_files_exist(dir / "out", {"grids/img_10.png"});
+
+  // Photographs with structure from motion are a real capture: the stability baseline is its
+  // row, and each run says whether it held its best.
+  const auto s = test::run_command(
+      eval_command(dir, dir / "capture",
+                   "--stability --stability-conditions baseline --max-seconds 1 --eval-every-seconds 0.25 --quiet"),
+      dir);
+  ASSERT_EQ(s.exit_code, 0) << s.err << s.out;
+  const auto stability = nlohmann::json::parse(test::read_file(dir / "out" / "stability.json"));
+  EXPECT_TRUE(stability.at("real_capture").get<bool>());
+  EXPECT_TRUE(stability.at("rules").contains("holds_best"));
+  ASSERT_EQ(stability.at("conditions").size(), 1u);
+  const auto& baseline = stability.at("conditions")[0];
+  EXPECT_EQ(baseline.at("name"), "real capture, all 8 views");
+  ASSERT_EQ(baseline.at("runs").size(), 2u);
+  for (const auto& run : baseline.at("runs"))
+    EXPECT_EQ(run.at("holds_best").get<bool>(), run.at("drop_from_best").get<double>() <= 0.3) << run.dump();
+  const std::string report = test::read_file(dir / "out" / "report.html");
+  EXPECT_NE(report.find("Real capture: does training hold its best?"), std::string::npos);
+  expect_report_files_exist(dir / "out", {"charts/stability_real_capture.png"});
 }
 
 TEST(EvalCli, StabilityAndSweepRunTheMethodsGiven) {
@@ -277,6 +297,7 @@ TEST(EvalCli, StabilityRunsEveryConditionAndGivesEachRunAVerdict) {
   EXPECT_GE(j.at("failure_psnr").get<double>(), 20.0);  // the absolute floor, stated
   EXPECT_GE(j.at("failure_psnr").get<double>(), j.at("background_only_psnr").get<double>() + 3.0);
   for (const char* rule : {"ok", "degraded", "failed", "diverged", "collapsed"}) EXPECT_TRUE(j.at("rules").contains(rule)) << rule;
+  EXPECT_FALSE(j.at("real_capture").get<bool>());  // rendered views, no structure from motion
   std::vector<std::string> names;
   for (const auto& c : j.at("conditions")) {
     const std::string id = c.at("id");
@@ -334,6 +355,7 @@ TEST(EvalCli, StabilityRunsEveryConditionAndGivesEachRunAVerdict) {
   EXPECT_GT(fs::file_size(out / "charts" / "stability_psnr.png"), 1000u);
   EXPECT_GT(fs::file_size(out / "charts" / "stability_curves.png"), 1000u);
   expect_report_files_exist(out, {"charts/stability_psnr.png", "charts/stability_curves.png"});
+  EXPECT_FALSE(fs::exists(out / "charts" / "stability_real_capture.png"));
   const std::string report = test::read_file(out / "report.html");
   EXPECT_NE(report.find("below its best (dB)"), std::string::npos);
   EXPECT_NE(report.find("poses 1° / 1% + refinement"), std::string::npos);
