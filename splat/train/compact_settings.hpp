@@ -50,12 +50,6 @@ struct CompactSettings {
   // such Gaussians sit close in front of the one camera that draws them and spoil the test
   // views that pass by (bench/HISTORY.md, issue 40). 0 = off.
   float prune_min_view_share = 0.0f;
-  // At the end of every window, Gaussians inside the frame of fewer than this many training
-  // views per epoch (the views that project them at all, averaged over the window's epochs)
-  // are pruned too: a point only one camera sees is not fixed by the others, and on real
-  // captures that is where the floaters in front of a camera sit. Geometry alone decides,
-  // not how strongly a view draws it (prune_min_view_share). 0 = off.
-  float prune_min_frame_views = 0.0f;
   // At the end of every window, to the end of the run, Gaussians inside a training camera's
   // frame nearer than this factor × that camera's near bound (the depth its structure-from-
   // motion points begin at, points_near_bounds.hpp) are pruned: they sit in space the capture

@@ -41,7 +41,6 @@ CompactStrategy::CompactStrategy(const CompactSettings& settings,
     : settings_(settings),
       density_(density),
       seed_(seed),
-      train_views_(std::max<std::size_t>(1, train_views)),
       near_bounds_(std::move(near_bounds)) {
   if (settings.grow_interval < 1) throw ArgumentError("compact strategy: grow_interval must be >= 1");
   if (!(settings.grow_max_fraction >= 0)) throw ArgumentError("compact strategy: grow_max_fraction must be >= 0");
@@ -52,13 +51,11 @@ CompactStrategy::CompactStrategy(const CompactSettings& settings,
   reset_stats(gaussian_count);
   window_weight_.assign(gaussian_count, 0.0f);
   if (counts_views()) window_views_.assign(gaussian_count, 0.0f);
-  if (counts_frames()) window_frames_.assign(gaussian_count, 0.0f);
 }
 
 std::vector<std::vector<float>*> CompactStrategy::statistics() {
   std::vector<std::vector<float>*> arrays = {&grad_accum_, &visible_views_, &window_weight_};
   if (counts_views()) arrays.push_back(&window_views_);
-  if (counts_frames()) arrays.push_back(&window_frames_);
   return arrays;
 }
 
@@ -115,7 +112,6 @@ DensityStepReport CompactStrategy::step_post_backward(int iteration, bool last_i
       window_weight_[i] = settings_.prune_by_peak_weight ? std::max(window_weight_[i], weight)
                                                          : window_weight_[i] + weight;
       if (counts_views() && weight >= settings_.prune_weight) window_views_[i] += 1.0f;
-      if (counts_frames()) window_frames_[i] += 1.0f;
     }
   window_view_count_ += int(views.size());
 
@@ -140,7 +136,6 @@ DensityStepReport CompactStrategy::step_post_backward(int iteration, bool last_i
   if (window_ends) {
     std::fill(window_weight_.begin(), window_weight_.end(), 0.0f);
     std::fill(window_views_.begin(), window_views_.end(), 0.0f);
-    std::fill(window_frames_.begin(), window_frames_.end(), 0.0f);
     window_view_count_ = 0;
   }
   if (s.opacity_reset_interval > 0 && phase <= s.grow_until &&
@@ -223,12 +218,8 @@ void CompactStrategy::prune_by_weight(float threshold, TrainingState& state,
   const std::size_t n = state.model.size();
   std::vector<std::uint8_t> keep(n, 1);
   const float min_views = settings_.prune_min_view_share * float(window_view_count_);
-  // The window's views counted in epochs of the training views: each view is in it that
-  // many times.
-  const float min_frames = settings_.prune_min_frame_views * float(window_view_count_) / float(train_views_);
   for (std::size_t i = 0; i < n; ++i)
-    keep[i] = !(window_weight_[i] < threshold || (counts_views() && window_views_[i] < min_views) ||
-                (counts_frames() && window_frames_[i] < min_frames));
+    keep[i] = !(window_weight_[i] < threshold || (counts_views() && window_views_[i] < min_views));
   remove_rows(keep, state, report);
 }
 
@@ -289,8 +280,7 @@ nlohmann::json CompactStrategy::checkpoint_state() const {
 
 void CompactStrategy::checkpoint_loaded(const nlohmann::json& state, std::size_t gaussian_count) {
   if (grad_accum_.size() != gaussian_count || visible_views_.size() != gaussian_count ||
-      window_weight_.size() != gaussian_count || (counts_views() && window_views_.size() != gaussian_count) ||
-      (counts_frames() && window_frames_.size() != gaussian_count))
+      window_weight_.size() != gaussian_count || (counts_views() && window_views_.size() != gaussian_count))
     throw ArgumentError("compact strategy statistics hold " + std::to_string(grad_accum_.size()) +
                         " rows, the model " + std::to_string(gaussian_count));
   last_growth_iteration_ = state.value("last_growth_iteration", 0);

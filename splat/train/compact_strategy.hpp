@@ -54,7 +54,6 @@ class CompactStrategy final : public DensityStrategy {
   std::size_t remove_rows(const std::vector<std::uint8_t>& keep, TrainingState& state,
                           DensityStepReport& report);
   bool counts_views() const { return settings_.prune_min_view_share > 0; }
-  bool counts_frames() const { return settings_.prune_min_frame_views > 0; }
   std::vector<std::vector<float>*> statistics();
   AlignedRows rows(TrainingState& state);
   void reset_stats(std::size_t n);
@@ -63,7 +62,6 @@ class CompactStrategy final : public DensityStrategy {
   DensityControlSettings density_;
   unsigned seed_;
   int window_;  // iterations per pruning window
-  std::size_t train_views_;
   std::vector<CameraNearBound> near_bounds_;
 
   // [N] statistics, aligned with the model's rows.
@@ -73,9 +71,6 @@ class CompactStrategy final : public DensityStrategy {
   // With prune_min_view_share: views of this window that drew the Gaussian (an extra
   // checkpoint array only then, so that older checkpoints load as they are).
   std::vector<float> window_views_;
-  // With prune_min_frame_views: views of this window whose frame holds the Gaussian (also an
-  // extra checkpoint array only then).
-  std::vector<float> window_frames_;
   int window_view_count_ = 0;  // views in this window so far
 
   // Decisions, for metrics.json.

@@ -163,14 +163,12 @@ TEST(TrainCli, ResumeContinuesExactly) {
   }
 }
 
-// Pruning by the share of views that draw a Gaussian, or by the views whose frame holds it,
-// keeps per-window counts of views: a checkpoint taken mid-window (windows of 16 views here)
+// Pruning by the share of views that draw a Gaussian keeps per-window counts of views: a checkpoint taken mid-window (windows of 16 views here)
 // carries them, and older checkpoints, which lack them, need them only when a setting is on.
 TEST(TrainCli, ResumeContinuesExactlyWithPruningByViewShare) {
   const fs::path dir = test::scratch_dir("train_cli_resume_view_share");
   nlohmann::json config = read_json(tiny_dataset() / "tiny_config.json");
   config["compact_prune_min_view_share"] = 0.3;
-  config["compact_prune_min_frame_views"] = 2.0;  // its count travels the same way
   test::write_text(dir / "config.json", config.dump());
   const auto command = [&](const fs::path& out, const std::string& extra) {
     return std::string(SPLAT_TRAIN_EXE) + " --data " + tiny_dataset().string() + " --out " + out.string() +

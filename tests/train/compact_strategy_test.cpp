@@ -211,39 +211,6 @@ TEST(CompactStrategy, PruningRemovesWhatTooFewViewsDraw) {
   }
 }
 
-// Five training views and a window of two epochs (10 views): rows 0-9 fall inside every
-// view's frame, rows 10-19 inside one view's only (a floater that one camera alone sees),
-// rows 20-29 inside two views'. All are drawn strongly where they are seen. With at least 1.5
-// views per epoch required, only the one-view rows go.
-TEST(CompactStrategy, PruningRemovesWhatTooFewViewsHoldInTheirFrame) {
-  for (float min_views : {0.0f, 1.5f}) {
-    Fixture f(30);
-    CompactSettings s = pruning_settings(1.0f);
-    s.prune_by_peak_weight = true;
-    s.prune_min_frame_views = min_views;
-    CompactStrategy strategy(s, {}, 5, 0, f.model.size());
-    for (int it = 1; it <= 10; ++it) {
-      const int view = it % 5;
-      GaussianModel grads = f.model;
-      grads.set_zero();
-      TrainingState state = f.state();
-      Stats stats(f.model.size(), 0.0f, 2.0f);
-      for (std::size_t i = 0; i < stats.radii.size(); ++i) {
-        const bool in_frame = i < 10 || (i < 20 ? view == 2 : view == 2 || view == 4);
-        stats.radii[i] = in_frame ? 5 : 0;
-      }
-      strategy.step_post_backward(it, false, state, grads, stats.view());
-    }
-    ASSERT_EQ(f.model.size(), min_views > 0 ? 20u : 30u) << "min_views " << min_views;
-    for (std::size_t r = 0; r < f.model.size(); ++r) {
-      const int original_row = int(Fixture::tag(f.model, r)) - 1;
-      EXPECT_TRUE(min_views == 0 || original_row < 10 || original_row >= 20)
-          << "min_views " << min_views << ": row " << r << " was row " << original_row;
-    }
-    f.expect_moments_follow_rows();
-  }
-}
-
 // One camera at the origin looking down +z whose points begin at depth 10: at the end of each
 // window, the rows placed at depth 4 (in front of half of that) go, those at depth 8 stay, and
 // without bounds (data without points) nothing goes.
