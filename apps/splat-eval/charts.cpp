@@ -156,6 +156,14 @@ void add_stability_chart(const json& stability, std::vector<Chart>& charts) {
   charts.push_back(chart);
 }
 
+// A run's test PSNR at each of its test points, against its training time.
+Series psnr_curve(const std::string& title, const std::string& style, const json& run) {
+  Series curve{title, style, {}, {}};
+  for (const json& h : run.value("history", json::array()))
+    if (h.contains("test_psnr")) curve.points.emplace_back(h.at("seconds"), h.at("test_psnr"));
+  return curve;
+}
+
 // Every stability run's test PSNR against its training time, one series per condition and
 // method: where a curve turns down, the run was better earlier than at its end.
 void add_stability_curves(const json& stability, std::vector<Chart>& charts) {
@@ -163,10 +171,7 @@ void add_stability_curves(const json& stability, std::vector<Chart>& charts) {
               "test PSNR (dB)", "set key outside right\n", {}};
   for (const json& c : stability.at("conditions"))
     for (const json& r : c.value("runs", json::array())) {
-      Series curve{c.at("name").get<std::string>() + " / " + method_label(r), "linespoints", {}, {}};
-      for (const json& h : r.value("history", json::array()))
-        if (h.contains("test_psnr")) curve.points.emplace_back(h.at("seconds"), h.at("test_psnr"));
-      chart.series.push_back(curve);
+      chart.series.push_back(psnr_curve(c.at("name").get<std::string>() + " / " + method_label(r), "linespoints", r));
     }
   charts.push_back(chart);
 }
@@ -180,10 +185,7 @@ void add_real_capture_curves(const json& stability, std::vector<Chart>& charts) 
   for (const json& c : stability.at("conditions"))
     if (c.at("kind") == "baseline")
       for (const json& r : c.value("runs", json::array())) {
-        Series curve{method_label(r), "linespoints lw 2", {}, {}};
-        for (const json& h : r.value("history", json::array()))
-          if (h.contains("test_psnr")) curve.points.emplace_back(h.at("seconds"), h.at("test_psnr"));
-        chart.series.push_back(curve);
+        chart.series.push_back(psnr_curve(method_label(r), "linespoints lw 2", r));
       }
   charts.push_back(chart);
 }

@@ -4,7 +4,8 @@
 // model's five parameter groups (kParameterGroups, in its order), then Adam's first and
 // second moments (five each), then the density strategy's statistics
 // (DensityStrategy::checkpoint_arrays: three for the official strategy, in the order every
-// version-1 checkpoint has them).
+// version-1 checkpoint has them), the per-view corrections' values and moments, and while the
+// validation holdout is undecided and has a best model, that model's five groups.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -58,6 +59,7 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
   rng_state << rng_;
   header["rng"] = rng_state.str();
   header["strategy_state"] = strategy_->checkpoint_state();
+  header["validation"] = holdout_.checkpoint_state();
   // The training views' pose corrections and exposure maps, those that are on.
   const auto per_view = corrections_.states();
   for (const auto& state : per_view) header[state.steps_key] = state.adam->steps();
@@ -76,6 +78,8 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
       for (const std::vector<float>& a :
            {state.adam->parameters(), state.adam->first_moments(), state.adam->second_moments()})
         write_array(out, a);
+    if (const GaussianModel* best = holdout_.checkpoint_model())
+      for (const ParameterGroup& group : kParameterGroups) write_array(out, group.of(*best));
   });
 }
 
@@ -124,6 +128,9 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
     std::istringstream rng_state(header.at("rng").get<std::string>());
     rng_state >> rng_;
     if (!rng_state) throw ArgumentError("rng is not a random generator's state");
+    // The checkpoint's config also says which views the validation holdout takes.
+    holdout_ = ValidationHoldout(dataset_, config_.validation);
+    holdout_.checkpoint_state_loaded(header.value("validation", nlohmann::json()));
   } catch (const nlohmann::json::exception& e) {
     throw InputError(file, "checkpoint header is malformed: " + json_error_text(e));
   } catch (const ArgumentError& e) {
@@ -144,6 +151,8 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
   std::vector<std::array<std::vector<float>, 3>> per_view_arrays(per_view.size());
   for (std::array<std::vector<float>, 3>& arrays : per_view_arrays)
     for (std::vector<float>& a : arrays) read_array(in, a, remaining, file);
+  if (GaussianModel* best = holdout_.checkpoint_model())
+    for (const ParameterGroup& group : kParameterGroups) read_array(in, group.of(*best), remaining, file);
   try {
     for (std::size_t k = 0; k < per_view.size(); ++k) {
       const std::array<std::vector<float>, 3>& a = per_view_arrays[k];
@@ -162,6 +171,7 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
     if (adam_.first_moment.size() != model_.size() || adam_.second_moment.size() != model_.size())
       throw ArgumentError("the Adam moments and the model disagree in length");
     strategy_->checkpoint_loaded(header.value("strategy_state", nlohmann::json::object()), model_.size());
+    holdout_.checkpoint_model_loaded(model_.sh_degree);
   } catch (const ArgumentError& e) {
     throw InputError(file, std::string("checkpoint arrays are inconsistent: ") + e.what());
   } catch (const nlohmann::json::exception& e) {

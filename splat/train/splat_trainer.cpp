@@ -76,13 +76,15 @@ SplatTrainer::SplatTrainer(const Dataset& dataset, const SplatTrainingConfig& co
   adam_.reset_like(model_);
   last_good_model_ = model_;
   corrections_ = ViewCorrections(dataset, config_, scene_extent_);
+  holdout_ = ValidationHoldout(dataset, config_.validation);
 }
 
 std::size_t SplatTrainer::next_view() {
   // As the official trainer: a random permutation of the training views, consumed one per
-  // iteration and refilled when empty.
+  // iteration and refilled when empty (without the views the validation holdout keeps).
   if (view_stack_.empty())
-    for (std::size_t i = 0; i < dataset_.train.size(); ++i) view_stack_.push_back(i);
+    for (std::size_t i = 0; i < dataset_.train.size(); ++i)
+      if (!holdout_.holds_out(i)) view_stack_.push_back(i);
   std::uniform_int_distribution<std::size_t> pick(0, view_stack_.size() - 1);
   const std::size_t slot = pick(rng_);
   const std::size_t view = view_stack_[slot];
@@ -186,7 +188,21 @@ StepResult SplatTrainer::step() {
   check_step_finite(iteration);
   result.timings.optimizer = ms_since(start);
   iteration_ = iteration;
+  validate_if_due();
   return result;
+}
+
+void SplatTrainer::validate_if_due() {
+  if (!holdout_.due(iteration_, config_.batch)) return;
+  const double psnr = evaluate(holdout_.views()).psnr;
+  const double fraction = schedule_iteration(iteration_) / double(config_.position_lr_max_steps);
+  if (holdout_.record(iteration_, psnr, model_, fraction) != ValidationHoldout::Decision::kRestore) return;
+  // Training ends on the best model. Its optimiser state and density statistics start afresh,
+  // so that a checkpoint of it is consistent; nothing trains on it any more (finished()).
+  model_ = holdout_.best_model();
+  adam_.reset_like(model_);
+  strategy_ = make_density_strategy(config_, dataset_, model_.size());
+  last_good_model_ = model_;
 }
 
 Camera SplatTrainer::differentiate_views(int iteration, int resolution_divisor, StepResult& result) {

@@ -24,6 +24,7 @@
 #include "splat/train/resolution_schedule.hpp"
 #include "splat/train/step_result.hpp"
 #include "splat/train/training_config.hpp"
+#include "splat/train/validation_holdout.hpp"
 #include "splat/train/view_corrections.hpp"
 #include "splat/train/view_step.hpp"
 
@@ -50,6 +51,10 @@ class SplatTrainer {
   Camera scoring_camera(const DatasetView& view) const;
 
   int iteration() const { return iteration_; }  // iterations completed
+  // Whether training has ended by its own decision: the validation holdout found the model
+  // fallen and restored its best one (validation_holdout.hpp). step() must not be called then.
+  bool finished() const { return holdout_.restored(); }
+  const ValidationHoldout& validation() const { return holdout_; }
   int active_sh_degree() const { return active_sh_degree_; }
   const GaussianModel& model() const { return model_; }
   // The gradient the last step gave Adam: its view's, or the mean of its batch's (with any
@@ -118,6 +123,8 @@ class SplatTrainer {
   // coefficients (most of the data) every kLastGoodInterval iterations, when the parameters
   // are also kept as the last good ones.
   void check_step_finite(int iteration);
+  // At the holdout's scoring points: scores its views, and carries out its decision.
+  void validate_if_due();
 
   const Dataset& dataset_;
   SplatTrainingConfig config_;
@@ -141,6 +148,7 @@ class SplatTrainer {
   BatchReduction batch_;                  // the step's views' gradients and statistics
   const GaussianModel* last_step_gradient_ = &view_step_.gradients().params;
   ViewCorrections corrections_;           // [train view] poses and exposure maps
+  ValidationHoldout holdout_;             // training views held out while the model grows
 };
 
 }  // namespace splat

@@ -58,6 +58,7 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
  public:
   using DelegatingAdapter::DelegatingAdapter;
   std::string method() const override { return "splat"; }
+  bool finished() const override { return trainer_.finished(); }
   void set_process_group(ProcessGroup* group) override { trainer_.set_process_group(group); }
   std::size_t num_gaussians() const override { return trainer_.model().size(); }
   std::size_t num_params() const override {
@@ -78,6 +79,7 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
     m["initialisation"] = to_json(trainer_.initialisation());
     m["strategy"] = trainer_.strategy().name();
     m["density_control"] = trainer_.strategy().metrics();
+    if (const nlohmann::json v = trainer_.validation().metrics(); !v.is_null()) m["validation"] = v;
     if (const ResolutionSchedule& r = trainer_.resolution_schedule(); r.start_divisor() > 1)
       m["resolution_warmup"] = {{"start_divisor", r.start_divisor()}, {"steps", r.steps()}};
     if (trainer_.config().refine_poses) m["pose_refinement"] = pose_refinement_metrics();

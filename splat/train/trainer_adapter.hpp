@@ -36,6 +36,9 @@ class TrainerAdapter {
   // otherwise none.
   virtual std::vector<Camera> refined_training_cameras() const { return {}; }
   virtual int iteration() const = 0;
+  // Whether training has ended by the method's own decision (the splats' validation holdout
+  // restored its best model): the loop stops before another step.
+  virtual bool finished() const { return false; }
   // Shares the steps with the other ranks of a data-parallel run (null: alone). The NeRF
   // trains in one process: ArgumentError for a group of more than one.
   virtual void set_process_group(ProcessGroup* group) {

@@ -97,6 +97,11 @@ void describe_settings(Table& t, SplatTrainingConfig& c) {
   t.flag("exposure_compensation", c.exposure_compensation);
   t.number("exposure_from", c.exposure_from, kIterations);
   t.number("exposure_lr", c.exposure_lr, kRate);
+  ValidationSettings& v = c.validation;
+  t.number("validation_every", v.every, {0, 1e6});
+  t.number("validation_interval", v.interval, kPositiveIterations);
+  t.number("validation_decide_at", v.decide_at, kUnit);
+  t.number("validation_fall_db", v.fall_db, {0, 100});
   t.number("test_pose_alignment_steps", c.test_pose_alignment_steps, {0, 100000});
   t.number("test_interval", c.test_interval, kIterations);
   t.number("checkpoint_interval", c.checkpoint_interval, kIterations);
@@ -178,6 +183,11 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
     // by (real_cup at P6: 30.72 dB against 29.05 and 29.70; bench/HISTORY.md, issue 40).
     // Synthetic data without points is untouched.
     c.prune_before_points = 0.5f;
+    // On a real capture every 16th training view is held out until growth ends, the best
+    // model by their score kept, and restored when the views say the model has fallen since
+    // (validation_holdout.hpp; bench/HISTORY.md, issue 40's fourth session).
+    config.validation.every = 16;
+    config.validation.decide_at = float(c.grow_until) / float(kLength);
     return config;
   }
   std::string known;

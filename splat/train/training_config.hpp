@@ -11,6 +11,7 @@
 #include "splat/raster/rasterizer.hpp"
 #include "splat/train/compact_settings.hpp"
 #include "splat/train/training_limits.hpp"
+#include "splat/train/validation_settings.hpp"
 
 namespace splat {
 
@@ -144,6 +145,11 @@ struct SplatTrainingConfig {
   bool exposure_compensation = false;
   int exposure_from = 500;
   float exposure_lr = 1e-3f;
+
+  // A validation set taken from the training views decides whether the model of the end of
+  // growth or the best one seen before is kept (validation_holdout.hpp). Off in the
+  // official recipe; the compact one holds every 16th view out on a real capture.
+  ValidationSettings validation;
 
   int test_interval = 1000;          // iterations between test evaluations (0 = end only)
   int checkpoint_interval = 5000;    // iterations between checkpoints (0 = none)

@@ -57,6 +57,7 @@ class Loop {
     for (;;) {
       const LoopState s = now();
       if (s.iteration >= options_.iterations) return StopReason::kIterations;
+      if (trainer_.finished()) return StopReason::kValidation;  // the same on every rank
       bool interrupted = options_.interrupt && options_.interrupt->load();
       double spent = options_.budget_clock == BudgetClock::kWall ? s.wall_seconds : s.train_seconds;
       if (options_.group) {  // every rank takes the same decision: rank 0's time, anyone's interrupt
@@ -153,6 +154,7 @@ const char* stop_reason_name(StopReason reason) {
     case StopReason::kTime: return "time";
     case StopReason::kInterrupt: return "interrupt";
     case StopReason::kDiverged: return "diverged";
+    case StopReason::kValidation: return "validation";
   }
   return "?";
 }

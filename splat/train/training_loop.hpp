@@ -78,8 +78,10 @@ class TrainingObserver {
                         const LoopState& /*state*/) {}
 };
 
-enum class StopReason { kIterations, kTime, kInterrupt, kDiverged };
-const char* stop_reason_name(StopReason reason);  // "iterations" | "time" | "interrupt" | "diverged"
+// kValidation: the trainer ended training itself (TrainerAdapter::finished).
+enum class StopReason { kIterations, kTime, kInterrupt, kDiverged, kValidation };
+// "iterations" | "time" | "interrupt" | "diverged" | "validation"
+const char* stop_reason_name(StopReason reason);
 
 struct Divergence {
   int iteration = 0;

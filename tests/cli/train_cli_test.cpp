@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/cli_support.hpp"
+#include "tests/data/dataset_test_folders.hpp"
+#include "splat/data/image_io.hpp"
 #include "splat/data/transforms_json.hpp"
 #include "splat/gaussians/ply_io.hpp"
 #include "splat/train/nerf_training_config.hpp"
@@ -163,8 +165,9 @@ TEST(TrainCli, ResumeContinuesExactly) {
   }
 }
 
-// Pruning by the share of views that draw a Gaussian keeps per-window counts of views: a checkpoint taken mid-window (windows of 16 views here)
-// carries them, and older checkpoints, which lack them, need them only when a setting is on.
+// Pruning by the share of views that draw a Gaussian keeps per-window counts of views: a
+// checkpoint taken mid-window (windows of 16 views here) carries them, and older checkpoints,
+// which lack them, need them only when a setting is on.
 TEST(TrainCli, ResumeContinuesExactlyWithPruningByViewShare) {
   const fs::path dir = test::scratch_dir("train_cli_resume_view_share");
   nlohmann::json config = read_json(tiny_dataset() / "tiny_config.json");
@@ -383,6 +386,51 @@ TEST(TrainCli, ScheduleSpansTheRunAndIsKeptOnResume) {
   const nlohmann::json resumed = read_json(dir / "out" / "config.json");
   EXPECT_EQ(resumed.at("schedule_iterations"), 60);
   EXPECT_EQ(resumed.at("iterations"), 90);
+}
+
+// A COLMAP capture whose held-out views disagree with every other: the training photographs
+// are white as the background is, the validation ones (training views 0, 8 and 16: img_11,
+// img_20, img_29) dark, as are the points. Training fades the model, so the validation score
+// falls from its first point on: the run stops where the holdout decides and keeps the model
+// of its best score, and says so.
+TEST(TrainCli, AFallingValidationScoreStopsTrainingOnTheBestModel) {
+  const fs::path dir = test::scratch_dir("train_cli_validation");
+  test::TestModel model;
+  model.cameras = {{1, ColmapCameraModel::kPinhole, 24, 18, {22.0, 22.0, 12.0, 9.0}}};
+  for (int i = 0; i < 20; ++i) {
+    ColmapImage image;
+    image.id = std::uint32_t(1 + i);
+    const double angle = 0.08 * (i - 10);  // an arc 4 units from the origin, facing it
+    image.quaternion = {std::cos(angle / 2), 0.0, std::sin(angle / 2), 0.0};
+    image.translation = {0.0, 0.0, 4.0};
+    image.camera_id = 1;
+    image.name = "img_" + std::to_string(10 + i) + ".png";
+    model.images.push_back(image);
+  }
+  for (int i = 0; i < 200; ++i)  // a 10 × 10 × 2 grid filling the middle of every view
+    model.points.push_back({{0.2 * (i % 10) - 0.9, 0.2 * (i / 10 % 10) - 0.9, 0.2 * (i / 100)}, {25, 25, 25}});
+  test::write_colmap_folder(dir / "capture", model, test::ModelForm::kText);
+  for (const ColmapImage& image : model.images) {
+    const bool held_out = image.name == "img_11.png" || image.name == "img_20.png" || image.name == "img_29.png";
+    write_png(Image(24, 18, 3, held_out ? 0.1f : 1.0f), dir / "capture" / "images" / image.name);
+  }
+  test::write_text(dir / "config.json", R"({"strategy": "official", "position_lr_max_steps": 60,
+    "validation_every": 8, "validation_interval": 5, "validation_decide_at": 0.5})");
+  const auto r = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --data " + (dir / "capture").string() +
+                                       " --out " + (dir / "out").string() + " --config " +
+                                       (dir / "config.json").string() + " --iters 60",
+                                   dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const nlohmann::json m = read_json(dir / "out" / "metrics.json");
+  EXPECT_EQ(m.at("stopped_by"), "validation");
+  EXPECT_EQ(m.at("iterations"), 30);  // decided at half of the 60-iteration schedule
+  const nlohmann::json& v = m.at("validation");
+  EXPECT_EQ(v.at("views"), nlohmann::json({"img_11", "img_20", "img_29"}));
+  EXPECT_EQ(v.at("decision"), "restored");
+  EXPECT_EQ(v.at("best").at("iteration"), 5);
+  EXPECT_EQ(v.at("scores").size(), 6u);  // 5, 10, ..., 30
+  EXPECT_NE(r.out.find("validation: the held-out views fell from"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("training stopped on the model of iteration 5"), std::string::npos) << r.out;
 }
 
 // Both strategies for the same iterations on the tiny scene, their schedules scaled down

@@ -18,6 +18,7 @@ class FakeTrainer final : public TrainerAdapter {
   double seconds_per_view = 0;           // when set, an evaluation takes this per view instead
   std::optional<int> diverge_at;         // the step that throws TrainingDiverged
   bool nonfinite_after_steps = false;    // what only the final check sees
+  std::optional<int> finished_at;        // the iteration after which the trainer is finished
   std::vector<int> evaluated_at;         // the iteration of each evaluation
   std::vector<double> budget_fractions;  // what the loop said before each step
 
@@ -39,6 +40,7 @@ class FakeTrainer final : public TrainerAdapter {
   }
   std::vector<int> evaluated_views;  // how many views each evaluation scored
   int iteration() const override { return iteration_; }
+  bool finished() const override { return finished_at && iteration_ >= *finished_at; }
   void set_time_budget_fraction(double fraction) override { budget_fractions.push_back(fraction); }
   void check_parameters_finite() const override {
     if (nonfinite_after_steps) throw TrainingDiverged(iteration_, "sh_coefficients");
@@ -247,6 +249,17 @@ TEST_F(TrainingLoop, InterruptStopsBeforeTheNextStepWithoutAFinalScore) {
   EXPECT_EQ(result.stopped_by, StopReason::kInterrupt);
   EXPECT_EQ(trainer.iteration(), 2);
   EXPECT_TRUE(trainer.evaluated_at.empty());
+}
+
+TEST_F(TrainingLoop, AFinishedTrainerStopsTheLoopBeforeAnotherStepAndIsScoredOnce) {
+  trainer.finished_at = 7;
+  options.iterations = 100;
+  options.score_at_end = true;
+  const TrainingLoopResult result = run();
+  EXPECT_EQ(result.stopped_by, StopReason::kValidation);
+  EXPECT_STREQ(stop_reason_name(result.stopped_by), "validation");
+  EXPECT_EQ(trainer.iteration(), 7);
+  EXPECT_EQ(trainer.evaluated_at, std::vector<int>{7});
 }
 
 TEST_F(TrainingLoop, ScoringWithoutViewsIsRefused) {

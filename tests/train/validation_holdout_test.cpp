@@ -1,0 +1,205 @@
+// The validation holdout: which views it takes, when it keeps a model, how it decides, and a
+// trainer that holds views out, restores its best model when they say it has fallen, and
+// resumes from a checkpoint to the same end.
+#include "splat/train/validation_holdout.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "splat/data/orbit_cameras.hpp"
+#include "splat/train/splat_trainer.hpp"
+#include "tests/test_support.hpp"
+
+namespace splat {
+namespace {
+
+Dataset capture(int train_views, bool with_points) {
+  Dataset dataset;
+  for (int i = 0; i < train_views; ++i) dataset.train.push_back({"view_" + std::to_string(i), Camera{}, Image{}});
+  if (with_points) dataset.points = PointCloud{};
+  return dataset;
+}
+
+ValidationSettings every(int n) {
+  ValidationSettings settings;
+  settings.every = n;
+  settings.decide_at = 0.5f;
+  settings.fall_db = 0.3f;
+  return settings;
+}
+
+GaussianModel model_of_size(std::size_t n) {
+  GaussianModel model;
+  model.resize(n);
+  return model;
+}
+
+bool same_model(const GaussianModel& a, const GaussianModel& b) {
+  if (a.sh_degree != b.sh_degree) return false;
+  for (const ParameterGroup& group : kParameterGroups)
+    if (group.of(a) != group.of(b)) return false;
+  return true;
+}
+
+TEST(ValidationHoldout, TakesEveryNthTrainingViewOfARealCapture) {
+  const Dataset dataset = capture(40, true);
+  const ValidationHoldout holdout(dataset, every(16));
+  ASSERT_TRUE(holdout.active());
+  ASSERT_EQ(holdout.views().size(), 3u);  // views 0, 16 and 32
+  EXPECT_EQ(holdout.views()[1].name, "view_16");
+  EXPECT_TRUE(holdout.holds_out(32));
+  EXPECT_FALSE(holdout.holds_out(31));
+}
+
+TEST(ValidationHoldout, IsOffWithoutPointsWithoutSettingOrWithOneViewOnly) {
+  EXPECT_FALSE(ValidationHoldout(capture(40, false), every(16)).active());  // synthetic data
+  EXPECT_FALSE(ValidationHoldout(capture(40, true), every(0)).active());
+  EXPECT_FALSE(ValidationHoldout(capture(16, true), every(16)).active());  // view 0 alone
+  EXPECT_TRUE(ValidationHoldout(capture(17, true), every(16)).active());
+  EXPECT_TRUE(ValidationHoldout(capture(40, true), every(0)).metrics().is_null());
+}
+
+TEST(ValidationHoldout, ScoresAtItsIntervalWhileActive) {
+  ValidationSettings settings = every(4);
+  settings.interval = 250;
+  const ValidationHoldout holdout(capture(12, true), settings);
+  EXPECT_TRUE(holdout.due(250, 1));
+  EXPECT_FALSE(holdout.due(251, 1));
+  EXPECT_TRUE(holdout.due(252, 4));  // a batch of views 249..252 holds 250
+}
+
+TEST(ValidationHoldout, KeepsTheBestModelAndRestoresItWhenTheLastTwoScoresFell) {
+  ValidationHoldout holdout(capture(12, true), every(4));
+  using D = ValidationHoldout::Decision;
+  EXPECT_EQ(holdout.record(100, 20.0, model_of_size(1), 0.1), D::kWait);
+  EXPECT_EQ(holdout.record(200, 22.0, model_of_size(2), 0.2), D::kWait);  // the best
+  EXPECT_EQ(holdout.record(300, 21.5, model_of_size(3), 0.3), D::kWait);
+  EXPECT_EQ(holdout.best_model().size(), 2u);
+  EXPECT_EQ(holdout.record(400, 21.6, model_of_size(4), 0.5), D::kRestore);  // 0.4 below
+  EXPECT_FALSE(holdout.active());
+  EXPECT_TRUE(holdout.restored());
+  EXPECT_EQ(holdout.best_model().size(), 2u);
+  const nlohmann::json m = holdout.metrics();
+  EXPECT_EQ(m.at("decision"), "restored");
+  EXPECT_EQ(m.at("best").at("iteration"), 200);
+  EXPECT_EQ(m.at("decided_at_iteration"), 400);
+  EXPECT_EQ(m.at("scores").size(), 4u);
+  // Decided once: later scores change nothing.
+  EXPECT_EQ(holdout.record(500, 30.0, model_of_size(5), 0.6), D::kRestore);
+  EXPECT_EQ(holdout.metrics().at("scores").size(), 4u);
+}
+
+TEST(ValidationHoldout, ASingleDipIsNotAFallAndViewsWithinTheMarginRejoin) {
+  using D = ValidationHoldout::Decision;
+  ValidationHoldout dip(capture(12, true), every(4));
+  dip.record(100, 22.0, model_of_size(1), 0.1);
+  dip.record(200, 21.9, model_of_size(1), 0.4);
+  EXPECT_EQ(dip.record(300, 20.0, model_of_size(1), 0.5), D::kRejoin);  // 21.9 is within 0.3
+  EXPECT_FALSE(dip.active());
+  EXPECT_FALSE(dip.holds_out(0));
+  EXPECT_FALSE(dip.restored());
+
+  ValidationHoldout rising(capture(12, true), every(4));
+  rising.record(100, 22.0, model_of_size(1), 0.1);
+  EXPECT_EQ(rising.record(200, 23.0, model_of_size(1), 0.5), D::kRejoin);
+  EXPECT_EQ(rising.metrics().at("decision"), "rejoined");
+}
+
+TEST(ValidationHoldout, CheckpointStateRoundTripsAndOldCheckpointsTrainOnEveryView) {
+  const Dataset dataset = capture(12, true);
+  ValidationHoldout holdout(dataset, every(4));
+  holdout.record(100, 20.0, model_of_size(3), 0.1);
+  holdout.record(200, 19.0, model_of_size(4), 0.2);
+  ASSERT_NE(holdout.checkpoint_model(), nullptr);
+
+  ValidationHoldout loaded(dataset, every(4));
+  loaded.checkpoint_state_loaded(holdout.checkpoint_state());
+  ASSERT_NE(loaded.checkpoint_model(), nullptr);
+  *loaded.checkpoint_model() = *holdout.checkpoint_model();
+  loaded.checkpoint_model_loaded(0);
+  EXPECT_EQ(loaded.metrics(), holdout.metrics());
+  EXPECT_TRUE(loaded.active());
+  EXPECT_EQ(loaded.best_model().size(), 3u);
+
+  ValidationHoldout old(dataset, every(4));
+  old.checkpoint_state_loaded(nullptr);
+  EXPECT_FALSE(old.active());
+  EXPECT_FALSE(old.holds_out(0));
+
+  // A checkpoint that holds views out, loaded where the data has none to hold out.
+  ValidationHoldout none(capture(12, false), every(4));
+  EXPECT_THROW(none.checkpoint_state_loaded(holdout.checkpoint_state()), ArgumentError);
+}
+
+// Training photographs all white, validation photographs dark, the points dark and the
+// background white: every step fades or whitens the model, so each validation score is below
+// the one before, and the holdout must restore the model of its first score and end there.
+class FallingCapture : public ::testing::Test {
+ protected:
+  FallingCapture() {
+    OrbitRig rig;
+    rig.count = 12;
+    rig.width = rig.height = 24;
+    const std::vector<Camera> cameras = orbit_cameras(rig);
+    for (std::size_t i = 0; i < cameras.size(); ++i)
+      dataset.train.push_back({"view_" + std::to_string(i), cameras[i], Image(24, 24, 3, i % 4 == 0 ? 0.1f : 1.0f)});
+    dataset.test = {dataset.train[1]};
+    dataset.scene_extent = 1.1f * rig.radius;
+    PointCloud points;  // a 10 × 10 × 2 grid over the middle of every view
+    for (int i = 0; i < 200; ++i) {
+      points.positions.insert(points.positions.end(),
+                              {0.2f * float(i % 10) - 0.9f, 0.2f * float(i / 10 % 10) - 0.9f, 0.2f * float(i / 100)});
+      points.colors.insert(points.colors.end(), {0.1f, 0.1f, 0.1f});
+    }
+    dataset.points = points;
+    config = splat_training_preset("official");  // on white: each step fades the dark model
+    config.iterations = config.position_lr_max_steps = 60;
+    config.validation.every = 4;  // views 0, 4 and 8
+    config.validation.interval = 5;
+    config.validation.decide_at = 0.5f;  // at iteration 30
+  }
+  Dataset dataset;
+  SplatTrainingConfig config;
+};
+
+TEST_F(FallingCapture, RestoresTheBestModelAndFinishes) {
+  SplatTrainer trainer(dataset, config);
+  ASSERT_TRUE(trainer.validation().active());
+  while (!trainer.finished() && trainer.iteration() < config.iterations) trainer.step();
+  EXPECT_EQ(trainer.iteration(), 30);
+  const nlohmann::json m = trainer.validation().metrics();
+  EXPECT_EQ(m.at("decision"), "restored") << m.dump();
+  EXPECT_EQ(m.at("best").at("iteration"), 5) << m.dump();
+
+  SplatTrainer five_steps(dataset, config);
+  for (int i = 0; i < 5; ++i) five_steps.step();
+  EXPECT_TRUE(same_model(trainer.model(), five_steps.model()));
+}
+
+TEST_F(FallingCapture, AResumedRunEndsAsAnUninterruptedOne) {
+  const auto dir = test::scratch_dir("validation_holdout_resume");
+  SplatTrainer whole(dataset, config);
+  while (!whole.finished() && whole.iteration() < config.iterations) whole.step();
+
+  SplatTrainer first(dataset, config);
+  for (int i = 0; i < 12; ++i) first.step();  // scored at 5 and 10: a best model to keep
+  first.save_checkpoint(dir / "mid.ckpt");
+  SplatTrainer resumed(dataset, config);
+  resumed.load_checkpoint(dir / "mid.ckpt");
+  while (!resumed.finished() && resumed.iteration() < config.iterations) resumed.step();
+  EXPECT_EQ(resumed.iteration(), whole.iteration());
+  EXPECT_TRUE(same_model(resumed.model(), whole.model()));
+  EXPECT_EQ(resumed.validation().metrics(), whole.validation().metrics());
+
+  // A checkpoint of the finished run loads finished.
+  whole.save_checkpoint(dir / "end.ckpt");
+  SplatTrainer reloaded(dataset, config);
+  reloaded.load_checkpoint(dir / "end.ckpt");
+  EXPECT_TRUE(reloaded.finished());
+  EXPECT_TRUE(same_model(reloaded.model(), whole.model()));
+}
+
+}  // namespace
+}  // namespace splat
