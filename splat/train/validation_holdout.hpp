@@ -3,9 +3,10 @@
 // part of training can learn floaters that explain the training photos and spoil every other
 // view (issue 40: wild_statue peaks after 500 iterations and loses 1 dB by the end, as the
 // official code does). A few training views are held out as a validation set while the model
-// grows; they are scored every `interval` iterations and the best-scoring model is kept. When
-// the schedule reaches `decide_at` (the end of growth in the compact recipe) the holdout
-// decides once:
+// grows; they are scored every `interval` iterations (before the step that holds the
+// multiple, after `interval` − 1 of them, as the test views are) and the best-scoring model is
+// kept. When the schedule reaches `decide_at` (half-way through growth in the compact
+// recipe) the holdout decides once:
 //   - validation has held (the better of its last two scores within `fall_db` of its best):
 //     the views rejoin training and the run goes on as it would have;
 //   - it has fallen: the best model is restored and training stops there ("validation").
@@ -35,7 +36,8 @@ class ValidationHoldout {
   // Whether training view `train_view` is held out now.
   bool holds_out(std::size_t train_view) const;
   const std::vector<DatasetView>& views() const { return views_; }
-  // Whether the step that ended at `last_iteration` (a batch of `batch` views) is a scoring point.
+  // Whether the step that ends at `last_iteration` (a batch of `batch` views) holds a scoring
+  // point (the trainer scores before that step).
   bool due(int last_iteration, int batch) const;
 
   // A validation score of the model as it is after iteration `iteration`: kept as the best
