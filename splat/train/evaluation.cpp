@@ -14,7 +14,8 @@ constexpr double kFittedPsnrCeiling = 200.0;
 }  // namespace
 
 Evaluation score_views(const std::vector<DatasetView>& views, const std::function<Camera(const DatasetView&)>& camera_for,
-                       const std::function<Image(const Camera&)>& render, std::vector<Image>* renders) {
+                       const std::function<Image(const Camera&)>& render, std::vector<Image>* renders,
+                       Measures measures) {
   Evaluation e;
   if (renders) renders->clear();
   double psnr_sum = 0, ssim_sum = 0, fitted_sum = 0;
@@ -27,9 +28,11 @@ Evaluation score_views(const std::vector<DatasetView>& views, const std::functio
     const double view_psnr = psnr(image, view.image);
     e.view_psnr.push_back(view_psnr);
     psnr_sum += view_psnr;
-    ssim_sum += ssim(image, view.image);
-    // An exact half scores +inf; a finite stand-in keeps the mean a number.
-    if (image.width >= 2) fitted_sum += std::min(half_fitted_psnr(image, view.image), kFittedPsnrCeiling);
+    if (measures == Measures::kAll) {
+      ssim_sum += ssim(image, view.image);
+      // An exact half scores +inf; a finite stand-in keeps the mean a number.
+      if (image.width >= 2) fitted_sum += std::min(half_fitted_psnr(image, view.image), kFittedPsnrCeiling);
+    }
     if (renders) renders->push_back(std::move(image));
   }
   e.views = int(views.size());

@@ -18,10 +18,15 @@ struct Evaluation {
   std::vector<double> view_render_ms;  // per view: the render alone (not choosing its camera)
 };
 
+// What score_views measures: everything, or the PSNR alone (ssim and half_fitted_psnr stay 0),
+// for a score taken often inside training (the validation holdout's) that uses nothing else.
+enum class Measures { kAll, kPsnrOnly };
+
 // Scores `views`: view v is rendered by render(camera_for(v)), which returns the image
 // clamped to [0, 1]. `renders`, when given, receives the images in view order.
 Evaluation score_views(const std::vector<DatasetView>& views, const std::function<Camera(const DatasetView&)>& camera_for,
-                       const std::function<Image(const Camera&)>& render, std::vector<Image>* renders);
+                       const std::function<Image(const Camera&)>& render, std::vector<Image>* renders,
+                       Measures measures = Measures::kAll);
 
 // The evaluation of a's views followed by b's.
 Evaluation merged(const Evaluation& a, const Evaluation& b);

@@ -197,7 +197,7 @@ void SplatTrainer::validate_if_due() {
   // train_command.cpp): scored after it, the opacity resets at multiples of 3,000 gave real_cup
   // validation scores of 8 dB among 27–30.
   if (!holdout_.due(iteration_ + config_.batch, config_.batch)) return;
-  const double psnr = evaluate(holdout_.views()).psnr;
+  const double psnr = evaluate(holdout_.views(), nullptr, Measures::kPsnrOnly).psnr;
   const double fraction = schedule_iteration(iteration_) / double(config_.position_lr_max_steps);
   if (holdout_.record(iteration_, psnr, model_, fraction) != ValidationHoldout::Decision::kRestore) return;
   // Training ends on the best model. Its optimiser state and density statistics start afresh,
@@ -276,13 +276,14 @@ Camera SplatTrainer::scoring_camera(const DatasetView& view) const {
   return corrections_.scoring_camera(model_, view, render_settings());
 }
 
-Evaluation SplatTrainer::evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders) {
+Evaluation SplatTrainer::evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders,
+                                  Measures measures) {
   // Under pose refinement the scene's frame has moved with the training poses: each view is
   // first aligned to its photograph with the model fixed, from its recorded pose every time
   // (so a score depends only on the model, and a resumed run scores as an uninterrupted one).
   return score_views(
       views, [&](const DatasetView& view) { return scoring_camera(view); },
-      [&](const Camera& camera) { return render(camera); }, renders);
+      [&](const Camera& camera) { return render(camera); }, renders, measures);
 }
 
 }  // namespace splat

@@ -42,7 +42,8 @@ class SplatTrainer {
 
   // Renders `views` with the current model (active SH bands) and scores them. If `renders`
   // is given it receives the clamped images.
-  Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders = nullptr);
+  Evaluation evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders = nullptr,
+                      Measures measures = Measures::kAll);
   // The image evaluate() scores for one camera (clamped to [0, 1]), without scoring it: what
   // splat-eval times as the render cost.
   Image render(const Camera& camera) const;

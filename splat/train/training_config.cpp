@@ -183,7 +183,7 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
     // by (real_cup at P6: 30.72 dB against 29.05 and 29.70; bench/HISTORY.md, issue 40).
     // Synthetic data without points is untouched.
     c.prune_before_points = 0.5f;
-    // On a real capture every 16th training view is held out for the first half of growth,
+    // On a real capture one training view in 16 is held out for the first half of growth,
     // the best model by their score kept, and restored when the views say the model has
     // fallen since (validation_holdout.hpp). Held out to the end of growth instead, they were
     // missed where growth needed them: real_cup 29.80 and real_plush 29.21 against 30.72 and

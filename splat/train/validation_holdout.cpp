@@ -4,13 +4,14 @@
 
 #include "splat/core/error.hpp"
 #include "splat/optim/step_events.hpp"
+#include "splat/train/validation_views.hpp"
 
 namespace splat {
 
 ValidationHoldout::ValidationHoldout(const Dataset& dataset, const ValidationSettings& settings)
     : settings_(settings) {
   if (settings.every <= 0 || !dataset.points) return;
-  for (std::size_t i = 0; i < dataset.train.size(); i += std::size_t(settings.every)) train_indices_.push_back(i);
+  train_indices_ = choose_validation_views(dataset.train, *dataset.points, settings.every);
   // One view is too few to tell a fall from that view's own noise.
   if (train_indices_.size() < 2) {
     train_indices_.clear();

@@ -4,8 +4,9 @@
 namespace splat {
 
 struct ValidationSettings {
-  // Every `every`-th training view (in the dataset's order) is held out; 0 = off. Only on data
-  // with a structure-from-motion point cloud (a real capture) and at least two such views.
+  // One training view in `every` is held out, the most redundant ones (validation_views.hpp);
+  // 0 = off. Only on data with a structure-from-motion point cloud (a real capture) and at
+  // least two such views.
   int every = 0;
   int interval = 250;      // iterations between validation scores
   float decide_at = 0.5f;  // the schedule's fraction at which the holdout decides

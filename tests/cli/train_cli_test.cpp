@@ -389,8 +389,9 @@ TEST(TrainCli, ScheduleSpansTheRunAndIsKeptOnResume) {
 }
 
 // A COLMAP capture whose held-out views disagree with every other: the training photographs
-// are white as the background is, the validation ones (training views 0, 8 and 16: img_11,
-// img_20, img_29) dark, as are the points. Training fades the model, so the validation score
+// are white as the background is, the validation ones dark, as are the points. The views are
+// on an arc, three of them (img_14, img_22, img_27) next to a view taken from almost the same
+// place: the holdout takes those three, the most redundant. Training fades the model, so the validation score
 // falls from its first point on: the run stops where the holdout decides and keeps the model
 // of its best score, and says so.
 TEST(TrainCli, AFallingValidationScoreStopsTrainingOnTheBestModel) {
@@ -400,7 +401,8 @@ TEST(TrainCli, AFallingValidationScoreStopsTrainingOnTheBestModel) {
   for (int i = 0; i < 20; ++i) {
     ColmapImage image;
     image.id = std::uint32_t(1 + i);
-    const double angle = 0.08 * (i - 10);  // an arc 4 units from the origin, facing it
+    const bool beside_previous = i == 5 || i == 13 || i == 18;
+    const double angle = beside_previous ? 0.08 * (i - 11) + 0.005 : 0.08 * (i - 10);  // an arc 4 units out, facing in
     image.quaternion = {std::cos(angle / 2), 0.0, std::sin(angle / 2), 0.0};
     image.translation = {0.0, 0.0, 4.0};
     image.camera_id = 1;
@@ -411,7 +413,7 @@ TEST(TrainCli, AFallingValidationScoreStopsTrainingOnTheBestModel) {
     model.points.push_back({{0.2 * (i % 10) - 0.9, 0.2 * (i / 10 % 10) - 0.9, 0.2 * (i / 100)}, {25, 25, 25}});
   test::write_colmap_folder(dir / "capture", model, test::ModelForm::kText);
   for (const ColmapImage& image : model.images) {
-    const bool held_out = image.name == "img_11.png" || image.name == "img_20.png" || image.name == "img_29.png";
+    const bool held_out = image.name == "img_14.png" || image.name == "img_22.png" || image.name == "img_27.png";
     write_png(Image(24, 18, 3, held_out ? 0.1f : 1.0f), dir / "capture" / "images" / image.name);
   }
   test::write_text(dir / "config.json", R"({"strategy": "official", "position_lr_max_steps": 60,
@@ -425,7 +427,7 @@ TEST(TrainCli, AFallingValidationScoreStopsTrainingOnTheBestModel) {
   EXPECT_EQ(m.at("stopped_by"), "validation");
   EXPECT_EQ(m.at("iterations"), 34);  // the first score past half of the 60-iteration schedule
   const nlohmann::json& v = m.at("validation");
-  EXPECT_EQ(v.at("views"), nlohmann::json({"img_11", "img_20", "img_29"}));
+  EXPECT_EQ(v.at("views"), nlohmann::json({"img_14", "img_22", "img_27"}));
   EXPECT_EQ(v.at("decision"), "restored");
   EXPECT_EQ(v.at("best").at("iteration"), 4);
   EXPECT_EQ(v.at("scores").size(), 7u);  // after 4, 9, ..., 34 (before the steps holding 5, 10, ...)

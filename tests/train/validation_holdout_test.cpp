@@ -5,19 +5,27 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "splat/data/orbit_cameras.hpp"
 #include "splat/train/splat_trainer.hpp"
+#include "splat/train/validation_views.hpp"
 #include "tests/test_support.hpp"
 
 namespace splat {
 namespace {
 
+// A capture on an orbit: cameras evenly spaced, so no view is more redundant than another.
 Dataset capture(int train_views, bool with_points) {
+  OrbitRig rig;
+  rig.count = train_views;
+  rig.width = rig.height = 8;
   Dataset dataset;
-  for (int i = 0; i < train_views; ++i) dataset.train.push_back({"view_" + std::to_string(i), Camera{}, Image{}});
+  const std::vector<Camera> cameras = orbit_cameras(rig);
+  for (int i = 0; i < train_views; ++i) dataset.train.push_back({"view_" + std::to_string(i), cameras[std::size_t(i)], Image{}});
   if (with_points) dataset.points = PointCloud{};
   return dataset;
 }
@@ -43,14 +51,48 @@ bool same_model(const GaussianModel& a, const GaussianModel& b) {
   return true;
 }
 
-TEST(ValidationHoldout, TakesEveryNthTrainingViewOfARealCapture) {
-  const Dataset dataset = capture(40, true);
-  const ValidationHoldout holdout(dataset, every(16));
+// 24 views on a ring 4 units out, two of them photographed twice from almost the same place
+// (views 24 and 25), and two close-ups 1.5 units out whose nearest neighbours are far.
+TEST(ValidationHoldout, TakesTheMostRedundantViewsNeverTwoNeighboursNorACloseUp) {
+  Dataset dataset;
+  const auto add_view = [&](float radius, float azimuth) {
+    const glm::vec3 eye(radius * std::cos(azimuth), radius * std::sin(azimuth), 1.0f);
+    dataset.train.push_back({"view_" + std::to_string(dataset.train.size()),
+                             look_at(eye, glm::vec3(0.0f), glm::vec3(0, 0, 1), 20, 20, 16, 16), Image{}});
+  };
+  const float step = 2.0f * 3.14159265f / 24.0f;
+  for (int i = 0; i < 24; ++i) add_view(4.0f, step * float(i));
+  add_view(4.0f, step * 5.0f + 0.01f);   // 24: next to 5
+  add_view(4.0f, step * 17.0f + 0.01f);  // 25: next to 17
+  add_view(1.5f, 0.3f);                  // 26, 27: close-ups
+  add_view(1.5f, 3.5f);
+  PointCloud points;
+  points.positions = {0.1f, 0, 0, -0.1f, 0, 0, 0, 0.1f, 0.2f};
+  points.colors.assign(9, 0.5f);
+
+  const std::vector<std::size_t> taken = choose_validation_views(dataset.train, points, 8);
+  ASSERT_EQ(taken.size(), 4u);  // ceil(28 / 8)
+  const auto took = [&](std::size_t view) { return std::count(taken.begin(), taken.end(), view) == 1; };
+  EXPECT_NE(took(5), took(24));  // one of each pair of near-duplicates, the other trains
+  EXPECT_NE(took(17), took(25));
+  EXPECT_FALSE(took(26));
+  EXPECT_FALSE(took(27));
+  const glm::vec3 center(0.0f, 0.0f, 0.2f / 3.0f);
+  for (std::size_t a : taken)
+    for (std::size_t b : taken) {  // no two taken views are neighbours on the ring
+      if (a >= b) continue;
+      EXPECT_GT(view_distance(dataset.train[a].camera, dataset.train[b].camera, center), 2.5f * step);
+    }
+
+  dataset.points = points;
+  const ValidationHoldout holdout(dataset, every(8));
   ASSERT_TRUE(holdout.active());
-  ASSERT_EQ(holdout.views().size(), 3u);  // views 0, 16 and 32
-  EXPECT_EQ(holdout.views()[1].name, "view_16");
-  EXPECT_TRUE(holdout.holds_out(32));
-  EXPECT_FALSE(holdout.holds_out(31));
+  ASSERT_EQ(holdout.views().size(), taken.size());
+  for (std::size_t k = 0; k < taken.size(); ++k) {
+    EXPECT_TRUE(holdout.holds_out(taken[k]));
+    EXPECT_EQ(holdout.views()[k].name, dataset.train[taken[k]].name);
+  }
+  EXPECT_FALSE(holdout.holds_out(26));
 }
 
 TEST(ValidationHoldout, IsOffWithoutPointsWithoutSettingOrWithOneViewOnly) {
@@ -144,7 +186,7 @@ class FallingCapture : public ::testing::Test {
     rig.width = rig.height = 24;
     const std::vector<Camera> cameras = orbit_cameras(rig);
     for (std::size_t i = 0; i < cameras.size(); ++i)
-      dataset.train.push_back({"view_" + std::to_string(i), cameras[i], Image(24, 24, 3, i % 4 == 0 ? 0.1f : 1.0f)});
+      dataset.train.push_back({"view_" + std::to_string(i), cameras[i], Image(24, 24, 3, 1.0f)});
     dataset.test = {dataset.train[1]};
     dataset.scene_extent = 1.1f * rig.radius;
     PointCloud points;  // a 10 × 10 × 2 grid over the middle of every view
@@ -156,7 +198,9 @@ class FallingCapture : public ::testing::Test {
     dataset.points = points;
     config = splat_training_preset("official");  // on white: each step fades the dark model
     config.iterations = config.position_lr_max_steps = 60;
-    config.validation.every = 4;  // views 0, 4 and 8
+    config.validation.every = 4;
+    for (std::size_t i : choose_validation_views(dataset.train, points, config.validation.every))
+      dataset.train[i].image = Image(24, 24, 3, 0.1f);
     config.validation.interval = 5;
     config.validation.decide_at = 0.5f;  // at the first score from iteration 30 on
   }
