@@ -57,8 +57,8 @@ DIR/test/<view>.png, DIR/config.json and DIR/checkpoint.ckpt.
   --quiet               no progress output
 Ctrl-C saves a checkpoint and a valid model.ply, then exits with status 130.
 On a real capture (COLMAP data with its points) the compact strategy holds one training
-view in 16 out (the most redundant) for the first half of growth; if by then they score more than
-0.3 dB below their best, training stops on the best model (stopped_by "validation"),
+view in 32 out (the most redundant) for the first half of growth; if by then they score
+more than 0.3 dB below their best, training stops on the best model (stopped_by "validation"),
 otherwise they rejoin training (settings validation_*, metrics.json "validation").
 )";
 

@@ -317,18 +317,8 @@ void TrainingRun::write_outputs(const std::string& stopped_by, double train_seco
   const bool wrote_cameras = write_refined_training_cameras(*trainer_, dataset_, cameras_file);
   const nlohmann::json m = metrics(stopped_by, train_seconds, fs::file_size(model_file));
   write_json(options_.out / "metrics.json", m);
-  if (!options_.quiet && stopped_by == stop_reason_name(StopReason::kValidation)) {
-    const nlohmann::json& v = m.at("validation");
-    const nlohmann::json& last = v.at("scores").back();
-    char line[256];
-    std::snprintf(line, sizeof(line),
-                  "validation: the held-out views fell from %.3f dB (iteration %d) to %.3f (iteration %d); "
-                  "training stopped on the model of iteration %d",
-                  v.at("best").at("psnr").get<double>(), v.at("best").at("iteration").get<int>(),
-                  last.at("psnr").get<double>(), last.at("iteration").get<int>(),
-                  v.at("best").at("iteration").get<int>());
-    progress_.message(line);
-  }
+  if (!options_.quiet && stopped_by == stop_reason_name(StopReason::kValidation))
+    progress_.message(trainer_->finished_summary());
   if (!options_.quiet) {
     char line[256];
     std::snprintf(line, sizeof(line),

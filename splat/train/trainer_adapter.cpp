@@ -59,6 +59,7 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
   using DelegatingAdapter::DelegatingAdapter;
   std::string method() const override { return "splat"; }
   bool finished() const override { return trainer_.finished(); }
+  std::string finished_summary() const override { return trainer_.validation().restore_summary(); }
   void set_process_group(ProcessGroup* group) override { trainer_.set_process_group(group); }
   std::size_t num_gaussians() const override { return trainer_.model().size(); }
   std::size_t num_params() const override {

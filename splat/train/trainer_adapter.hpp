@@ -39,6 +39,8 @@ class TrainerAdapter {
   // Whether training has ended by the method's own decision (the splats' validation holdout
   // restored its best model): the loop stops before another step.
   virtual bool finished() const { return false; }
+  // Once finished(): a line telling the user why (empty when there is nothing to say).
+  virtual std::string finished_summary() const { return {}; }
   // Shares the steps with the other ranks of a data-parallel run (null: alone). The NeRF
   // trains in one process: ArgumentError for a group of more than one.
   virtual void set_process_group(ProcessGroup* group) {

@@ -148,7 +148,7 @@ struct SplatTrainingConfig {
 
   // A validation set taken from the training views decides whether the model of the end of
   // growth or the best one seen before is kept (validation_holdout.hpp). Off in the
-  // official recipe; the compact one holds every 16th view out on a real capture.
+  // official recipe; the compact one holds one view in 32 out on a real capture.
   ValidationSettings validation;
 
   int test_interval = 1000;          // iterations between test evaluations (0 = end only)

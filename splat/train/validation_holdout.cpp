@@ -1,6 +1,7 @@
 #include "splat/train/validation_holdout.hpp"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "splat/core/error.hpp"
 #include "splat/optim/step_events.hpp"
@@ -60,6 +61,16 @@ const char* decision_name(ValidationHoldout::Decision d) {
 }
 
 }  // namespace
+
+std::string ValidationHoldout::restore_summary() const {
+  if (!restored() || !best_ || scores_.empty()) return {};
+  char line[256];
+  std::snprintf(line, sizeof(line),
+                "validation: the held-out views fell from %.3f dB (iteration %d) to %.3f (iteration %d); "
+                "training stopped on the model of iteration %d",
+                best_->psnr, best_->iteration, scores_.back().psnr, scores_.back().iteration, best_->iteration);
+  return line;
+}
 
 nlohmann::json ValidationHoldout::metrics() const {
   if (train_indices_.empty()) return nullptr;

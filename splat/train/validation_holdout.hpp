@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "splat/data/dataset.hpp"
@@ -50,6 +51,9 @@ class ValidationHoldout {
   // The model of the best score (valid until the decision releases it).
   const GaussianModel& best_model() const { return best_model_; }
 
+  // Why training ended, for the user, once the holdout restored its best model: the best
+  // score, the last one and the model kept (empty otherwise).
+  std::string restore_summary() const;
   // For metrics.json: the held-out views, every score, the best and the decision.
   nlohmann::json metrics() const;
   // The checkpoint's part: scalar state in the header, and while undecided the best model,
