@@ -187,6 +187,19 @@ glm::vec3 mean_camera_centre(const std::vector<DatasetView>& views) {
   return mean;
 }
 
+glm::vec3 scene_centre(const std::vector<DatasetView>& train, const PointCloud* points) {
+  if (!points || points->size() == 0) return mean_camera_centre(train);
+  std::vector<float> axis(points->size());
+  glm::vec3 median;
+  for (int a = 0; a < 3; ++a) {
+    for (std::size_t i = 0; i < axis.size(); ++i) axis[i] = points->positions[3 * i + std::size_t(a)];
+    const auto middle = axis.begin() + std::ptrdiff_t(axis.size() / 2);
+    std::nth_element(axis.begin(), middle, axis.end());
+    median[a] = *middle;
+  }
+  return median;
+}
+
 std::vector<Camera> cameras_of(const std::vector<DatasetView>& views) {
   std::vector<Camera> cameras;
   for (const DatasetView& view : views) cameras.push_back(view.camera);

@@ -72,6 +72,10 @@ bool background_left_out(const std::vector<DatasetView>& views);
 // The mean of the training cameras' centres (the middle of a capture around a scene).
 glm::vec3 mean_camera_centre(const std::vector<DatasetView>& views);
 
+// Where the scene is: the per-axis median of `points` (robust to stray points), or without
+// points the mean of the training cameras' centres (the middle of a capture around it).
+glm::vec3 scene_centre(const std::vector<DatasetView>& train, const PointCloud* points);
+
 // The cameras of `views`, in order.
 std::vector<Camera> cameras_of(const std::vector<DatasetView>& views);
 

@@ -11,26 +11,6 @@ namespace {
 
 constexpr std::size_t kNeighbours = 3;  // the views a held-out one keeps in training around it
 
-float median(std::vector<float> values) {
-  const auto middle = values.begin() + std::ptrdiff_t(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
-
-glm::vec3 scene_center(const std::vector<DatasetView>& train, const PointCloud& points) {
-  std::vector<float> axes[3];
-  if (points.size() > 0) {
-    for (std::size_t i = 0; i < points.size(); ++i)
-      for (int a = 0; a < 3; ++a) axes[a].push_back(points.positions[3 * i + std::size_t(a)]);
-  } else {
-    for (const DatasetView& view : train) {
-      const glm::vec3 c = view.camera.center_in_world();
-      for (int a = 0; a < 3; ++a) axes[a].push_back(c[a]);
-    }
-  }
-  return {median(axes[0]), median(axes[1]), median(axes[2])};
-}
-
 // The camera's viewing direction in world coordinates: its z axis.
 glm::vec3 viewing_direction(const Camera& camera) { return glm::row(camera.camera_from_world_rotation, 2); }
 
@@ -49,7 +29,7 @@ std::vector<std::size_t> choose_validation_views(const std::vector<DatasetView>&
                                                  int every) {
   const std::size_t n = train.size();
   if (every <= 0 || n < 2) return {};
-  const glm::vec3 center = scene_center(train, points);
+  const glm::vec3 center = scene_centre(train, &points);
 
   // Each view's others, nearest first (ties to the lower index).
   std::vector<std::vector<std::size_t>> nearest(n);

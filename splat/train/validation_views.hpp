@@ -22,8 +22,8 @@ float view_distance(const Camera& a, const Camera& b, const glm::vec3& scene_cen
 // Indices into `train` (ascending) of up to ceil(size / every) views: the views in order of
 // their nearest neighbour's distance (ties to the lower index), each taken unless it is one
 // of the three nearest to a view already taken or has such a view among its own three
-// nearest. The scene centre is the per-axis median of `points` (of the camera centres when
-// there are none).
+// nearest. The scene centre is `scene_centre(train, &points)`: the points' per-axis median
+// (the cameras' mean when there are none).
 std::vector<std::size_t> choose_validation_views(const std::vector<DatasetView>& train, const PointCloud& points,
                                                  int every);
 

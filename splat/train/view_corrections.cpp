@@ -7,30 +7,10 @@
 
 namespace splat {
 
-namespace {
-
-// Where the scene is: the median of the point cloud per axis (robust to stray points), or
-// without one the mean of the training cameras' centres (the middle of a capture around it).
-glm::vec3 scene_centre(const Dataset& dataset) {
-  if (dataset.points && dataset.points->size() > 0) {
-    std::vector<float> axis(dataset.points->size());
-    glm::vec3 median;
-    for (int a = 0; a < 3; ++a) {
-      for (std::size_t i = 0; i < axis.size(); ++i) axis[i] = dataset.points->positions[3 * i + a];
-      std::nth_element(axis.begin(), axis.begin() + axis.size() / 2, axis.end());
-      median[a] = axis[axis.size() / 2];
-    }
-    return median;
-  }
-  return mean_camera_centre(dataset.train);
-}
-
-}  // namespace
-
 ViewCorrections::ViewCorrections(const Dataset& dataset, const SplatTrainingConfig& config, float scene_extent)
     : config_(config), scene_extent_(scene_extent), recorded_cameras_(cameras_of(dataset.train)) {
   if (config_.refine_poses) {
-    scene_centre_ = scene_centre(dataset);
+    scene_centre_ = scene_centre(dataset.train, dataset.points ? &*dataset.points : nullptr);
     std::vector<float> pivots;
     for (const Camera& camera : recorded_cameras_) pivots.push_back(pose_pivot_depth(camera));
     pose_refiner_ = PoseRefiner(recorded_cameras_.size(), scene_extent_, pivots, config_.pose_adam_beta1);
