@@ -19,31 +19,33 @@ ValidationHoldout::ValidationHoldout(const Dataset& dataset, const ValidationSet
     return;
   }
   for (std::size_t i : train_indices_) views_.push_back(dataset.train[i]);
-  active_ = true;
+}
+
+std::optional<ValidationHoldout::Score> ValidationHoldout::best() const {
+  if (scores_.empty()) return std::nullopt;
+  return *std::max_element(scores_.begin(), scores_.end(),
+                           [](const Score& a, const Score& b) { return a.psnr < b.psnr; });
 }
 
 bool ValidationHoldout::holds_out(std::size_t train_view) const {
-  return active_ && std::binary_search(train_indices_.begin(), train_indices_.end(), train_view);
+  return active() && std::binary_search(train_indices_.begin(), train_indices_.end(), train_view);
 }
 
 bool ValidationHoldout::due(int last_iteration, int batch) const {
-  return active_ && step_reaches_multiple(last_iteration, batch, settings_.interval);
+  return active() && step_reaches_multiple(last_iteration, batch, settings_.interval);
 }
 
 ValidationHoldout::Decision ValidationHoldout::record(int iteration, double psnr, const GaussianModel& model,
                                                       double schedule_fraction) {
-  if (!active_) return decision_;
+  if (!active()) return decision_;
+  const std::optional<Score> best_before = best();
   scores_.push_back({iteration, psnr});
-  if (!best_ || psnr > best_->psnr) {
-    best_ = scores_.back();
-    best_model_ = model;
-  }
+  if (!best_before || psnr > best_before->psnr) best_model_ = model;
   if (schedule_fraction < settings_.decide_at) return Decision::kWait;
   double recent = scores_.back().psnr;
   if (scores_.size() >= 2) recent = std::max(recent, scores_[scores_.size() - 2].psnr);
-  decision_ = recent < best_->psnr - settings_.fall_db ? Decision::kRestore : Decision::kRejoin;
+  decision_ = recent < best()->psnr - settings_.fall_db ? Decision::kRestore : Decision::kRejoin;
   decided_at_ = iteration;
-  active_ = false;
   // Restoring hands the best model over (the trainer copies it); rejoining has no use for it.
   if (decision_ == Decision::kRejoin) best_model_ = GaussianModel{};
   return decision_;
@@ -63,12 +65,13 @@ const char* decision_name(ValidationHoldout::Decision d) {
 }  // namespace
 
 std::string ValidationHoldout::restore_summary() const {
-  if (!restored() || !best_ || scores_.empty()) return {};
+  const std::optional<Score> best = this->best();
+  if (!restored() || !best) return {};
   char line[256];
   std::snprintf(line, sizeof(line),
                 "validation: the held-out views fell from %.3f dB (iteration %d) to %.3f (iteration %d); "
                 "training stopped on the model of iteration %d",
-                best_->psnr, best_->iteration, scores_.back().psnr, scores_.back().iteration, best_->iteration);
+                best->psnr, best->iteration, scores_.back().psnr, scores_.back().iteration, best->iteration);
   return line;
 }
 
@@ -79,7 +82,7 @@ nlohmann::json ValidationHoldout::metrics() const {
   for (const DatasetView& v : views_) m["views"].push_back(v.name);
   m["scores"] = nlohmann::json::array();
   for (const Score& s : scores_) m["scores"].push_back({{"iteration", s.iteration}, {"psnr", s.psnr}});
-  if (best_) m["best"] = {{"iteration", best_->iteration}, {"psnr", best_->psnr}};
+  if (const std::optional<Score> best = this->best()) m["best"] = {{"iteration", best->iteration}, {"psnr", best->psnr}};
   m["decision"] = decision_name(decision_);
   if (decided_at_) m["decided_at_iteration"] = *decided_at_;
   m["fall_db"] = settings_.fall_db;
@@ -88,39 +91,34 @@ nlohmann::json ValidationHoldout::metrics() const {
 
 nlohmann::json ValidationHoldout::checkpoint_state() const {
   nlohmann::json j;
-  j["active"] = active_;
+  j["active"] = active();
   j["decision"] = int(decision_);
   if (decided_at_) j["decided_at"] = *decided_at_;
   j["scores"] = nlohmann::json::array();
   for (const Score& s : scores_) j["scores"].push_back({s.iteration, s.psnr});
-  if (best_) j["best"] = {best_->iteration, best_->psnr};
   return j;
 }
 
 void ValidationHoldout::checkpoint_state_loaded(const nlohmann::json& state) {
   scores_.clear();
-  best_.reset();
   decided_at_.reset();
   best_model_ = GaussianModel{};
-  if (state.is_null()) {  // written before the holdout existed: train on every view
-    active_ = false;
-    decision_ = Decision::kRejoin;
-    return;
-  }
-  const bool active = state.at("active").get<bool>();
-  if (active && train_indices_.empty())
+  decision_ = Decision::kRejoin;  // written before the holdout existed: train on every view
+  if (state.is_null()) return;
+  const bool held_out = state.at("active").get<bool>();
+  if (held_out && train_indices_.empty())
     throw ArgumentError("the checkpoint holds validation views out but these settings and data have none");
-  active_ = active;
   const int decision = state.at("decision").get<int>();
   if (decision < 0 || decision > int(Decision::kRestore)) throw ArgumentError("validation decision is corrupt");
-  decision_ = Decision(decision);
+  if (held_out && Decision(decision) != Decision::kWait)
+    throw ArgumentError("validation state is corrupt: views held out after the decision");
+  // Undecided and nothing held out (a run without validation views): every view trains on.
+  if (held_out || Decision(decision) != Decision::kWait) decision_ = Decision(decision);
   if (state.contains("decided_at")) decided_at_ = state.at("decided_at").get<int>();
   for (const nlohmann::json& s : state.at("scores")) scores_.push_back({s.at(0).get<int>(), s.at(1).get<double>()});
-  if (state.contains("best")) best_ = Score{state.at("best").at(0).get<int>(), state.at("best").at(1).get<double>()};
 }
 
 void ValidationHoldout::checkpoint_model_loaded(int sh_degree) {
-  if (active_ && !best_ && !scores_.empty()) throw ArgumentError("validation scores without a best model");
   best_model_.sh_degree = sh_degree;
   if (checkpoint_model()) best_model_.check_consistent();
 }

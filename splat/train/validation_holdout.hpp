@@ -24,7 +24,6 @@
 
 namespace splat {
 
-
 class ValidationHoldout {
  public:
   enum class Decision { kWait, kRejoin, kRestore };
@@ -33,7 +32,7 @@ class ValidationHoldout {
   ValidationHoldout(const Dataset& dataset, const ValidationSettings& settings);
 
   // Whether the views are still held out (off, or decided: none are).
-  bool active() const { return active_; }
+  bool active() const { return !train_indices_.empty() && decision_ == Decision::kWait; }
   // Whether training view `train_view` is held out now.
   bool holds_out(std::size_t train_view) const;
   const std::vector<DatasetView>& views() const { return views_; }
@@ -59,8 +58,8 @@ class ValidationHoldout {
   // The checkpoint's part: scalar state in the header, and while undecided the best model,
   // whose arrays follow the others (checkpoint_model(): null when there is none to save).
   nlohmann::json checkpoint_state() const;
-  const GaussianModel* checkpoint_model() const { return active_ && best_ ? &best_model_ : nullptr; }
-  GaussianModel* checkpoint_model() { return active_ && best_ ? &best_model_ : nullptr; }
+  const GaussianModel* checkpoint_model() const { return active() && !scores_.empty() ? &best_model_ : nullptr; }
+  GaussianModel* checkpoint_model() { return active() && !scores_.empty() ? &best_model_ : nullptr; }
   // After the header's state was read (then the model's arrays into checkpoint_model(), then
   // checkpoint_model_loaded): ArgumentError if they do not fit. `state` null (a checkpoint
   // from before the holdout): treated as decided, every view trained on.
@@ -72,14 +71,14 @@ class ValidationHoldout {
     int iteration;
     double psnr;
   };
+  // The first of the highest scores (none before the first).
+  std::optional<Score> best() const;
 
   ValidationSettings settings_;
   std::vector<std::size_t> train_indices_;  // of the held-out views, ascending
   std::vector<DatasetView> views_;
-  bool active_ = false;
   std::vector<Score> scores_;
-  std::optional<Score> best_;
-  GaussianModel best_model_;
+  GaussianModel best_model_;  // the model of best(), kept while undecided
   std::optional<int> decided_at_;
   Decision decision_ = Decision::kWait;
 };

@@ -173,6 +173,26 @@ TEST(ValidationHoldout, CheckpointStateRoundTripsAndOldCheckpointsTrainOnEveryVi
   // A checkpoint that holds views out, loaded where the data has none to hold out.
   ValidationHoldout none(capture(12, false), every(4));
   EXPECT_THROW(none.checkpoint_state_loaded(holdout.checkpoint_state()), ArgumentError);
+
+  // A run that held nothing out, resumed where there are views to hold out: it goes on
+  // training on every view, as it began.
+  ValidationHoldout nothing_held(dataset, every(0));
+  ValidationHoldout resumed(dataset, every(4));
+  resumed.checkpoint_state_loaded(nothing_held.checkpoint_state());
+  EXPECT_FALSE(resumed.active());
+  EXPECT_FALSE(resumed.holds_out(0));
+
+  // A decided holdout stays decided; views held out after a decision is a corrupt state.
+  holdout.record(300, 17.0, model_of_size(5), 0.5);
+  ASSERT_TRUE(holdout.restored());
+  ValidationHoldout decided(dataset, every(4));
+  decided.checkpoint_state_loaded(holdout.checkpoint_state());
+  EXPECT_TRUE(decided.restored());
+  EXPECT_FALSE(decided.active());
+  EXPECT_EQ(decided.checkpoint_model(), nullptr);
+  nlohmann::json corrupt = holdout.checkpoint_state();
+  corrupt["active"] = true;
+  EXPECT_THROW(ValidationHoldout(dataset, every(4)).checkpoint_state_loaded(corrupt), ArgumentError);
 }
 
 // Training photographs all white, validation photographs dark, the points dark and the
