@@ -44,7 +44,9 @@ DIR/test/<view>.png, DIR/config.json and DIR/checkpoint.ckpt.
   --refine-poses        optimise a correction of every training view's pose with the scene
                         (for poses with some error, as estimated ones have); the test views
                         are then aligned to their photographs with the model fixed before
-                        they are scored (experimental: off by default)
+                        they are scored (off by default: the model then fits its own
+                        poses, not the recorded ones; metrics.json's pose_refinement
+                        scores both)
   --exposure-compensation
                         give every training view its own affine colour map (exposure and
                         white balance), optimised with the scene; test views use none

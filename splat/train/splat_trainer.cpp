@@ -276,6 +276,15 @@ Camera SplatTrainer::scoring_camera(const DatasetView& view) const {
   return corrections_.scoring_camera(model_, view, render_settings());
 }
 
+std::optional<double> SplatTrainer::test_psnr_at_recorded_poses() const {
+  if (dataset_.test.empty()) return std::nullopt;
+  const FrameChange frame = corrections_.frame_change();
+  return score_views(
+             dataset_.test, [&](const DatasetView& view) { return frame.applied_to(view.camera); },
+             [&](const Camera& camera) { return render(camera); }, nullptr, Measures::kPsnrOnly)
+      .psnr;
+}
+
 Evaluation SplatTrainer::evaluate(const std::vector<DatasetView>& views, std::vector<Image>* renders,
                                   Measures measures) {
   // Under pose refinement the scene's frame has moved with the training poses: each view is

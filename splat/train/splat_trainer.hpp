@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -50,6 +51,11 @@ class SplatTrainer {
   // The camera evaluate() renders `view` with: its recorded one, or under pose refinement
   // that camera aligned to the view's photograph with the model fixed.
   Camera scoring_camera(const DatasetView& view) const;
+  // Under pose refinement, the mean PSNR of the dataset's test views at their recorded poses
+  // carried into the model's frame, without the alignment evaluate() gives each: how well the
+  // model still fits the poses the photographs came with (metrics.json's pose_refinement).
+  // None without test views.
+  std::optional<double> test_psnr_at_recorded_poses() const;
 
   int iteration() const { return iteration_; }  // iterations completed
   // Whether training has ended by its own decision: the validation holdout found the model

@@ -128,6 +128,8 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
         "views' poses moved by, then aligned to its photograph by " +
         std::to_string(trainer_.config().test_pose_alignment_steps) +
         " pose-only Adam steps with the model fixed, then scored";
+    if (const std::optional<double> psnr = trainer_.test_psnr_at_recorded_poses())
+      j["test_psnr_at_recorded_poses"] = *psnr;
     return j;
   }
 };

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-#include "splat/core/frame_change.hpp"
 #include "splat/optim/lr_schedule.hpp"
 
 namespace splat {
@@ -26,6 +25,10 @@ std::vector<Camera> ViewCorrections::training_cameras() const {
   std::vector<Camera> cameras;
   for (std::size_t v = 0; v < recorded_cameras_.size(); ++v) cameras.push_back(camera(v, recorded_cameras_[v]));
   return cameras;
+}
+
+FrameChange ViewCorrections::frame_change() const {
+  return config_.refine_poses ? fit_frame_change(recorded_cameras_, training_cameras()) : FrameChange{};
 }
 
 float ViewCorrections::pose_pivot_depth(const Camera& camera) const {
@@ -60,7 +63,7 @@ Camera ViewCorrections::scoring_camera(const GaussianModel& model, const Dataset
   // Training moved the frame as a whole (a small turn, shift and scale): the view's recorded
   // pose is carried into the model's frame by the similarity the training views' poses
   // moved by, and the alignment then corrects what is the view's own.
-  const Camera start_camera = fit_frame_change(recorded_cameras_, training_cameras()).applied_to(view.camera);
+  const Camera start_camera = frame_change().applied_to(view.camera);
   PoseAlignmentSettings alignment;
   alignment.steps = config_.test_pose_alignment_steps;
   alignment.lr = {config_.pose_rotation_lr, config_.pose_translation_lr};

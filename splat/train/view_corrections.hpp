@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "splat/core/camera.hpp"
+#include "splat/core/frame_change.hpp"
 #include "splat/data/dataset.hpp"
 #include "splat/gaussians/gaussian_model.hpp"
 #include "splat/optim/per_view_adam.hpp"
@@ -30,6 +31,9 @@ class ViewCorrections {
   Camera camera(std::size_t view, const Camera& recorded) const;
   // Every training view's camera as trained.
   std::vector<Camera> training_cameras() const;
+  // The similarity the training views' poses have moved by as a whole under pose refinement
+  // (the identity without it): what carries a pose recorded with theirs into the model's frame.
+  FrameChange frame_change() const;
   // The camera a model is scored with for `view` (a test view): its recorded one, or under
   // pose refinement that camera aligned to the view's photograph with `model` fixed.
   Camera scoring_camera(const GaussianModel& model, const DatasetView& view, const RenderSettings& render) const;

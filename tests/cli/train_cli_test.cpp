@@ -317,6 +317,24 @@ TEST(TrainCli, AKilledMpiRankEndsTheRunAndTheCheckpointResumes) {
 #endif
 }
 
+// Under pose refinement metrics.json also scores the test views at their recorded poses
+// (carried into the model's frame, not aligned): with no alignment steps, exactly the test
+// score, though the training poses moved.
+TEST(TrainCli, PoseRefinementReportsTheTestScoreAtTheRecordedPoses) {
+  const fs::path dir = test::scratch_dir("train_cli_refine_poses_recorded");
+  nlohmann::json config = read_json(tiny_dataset() / "tiny_config.json");
+  config["test_pose_alignment_steps"] = 0;
+  test::write_text(dir / "config.json", config.dump());
+  auto r = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --data " + tiny_dataset().string() + " --out " +
+                                 (dir / "out").string() + " --config " + (dir / "config.json").string() +
+                                 " --refine-poses --iters 120 --test-every 0 --quiet",
+                             dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json m = read_json(dir / "out" / "metrics.json");
+  EXPECT_GT(m["pose_refinement"]["mean_rotation_correction_deg"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(m["pose_refinement"]["test_psnr_at_recorded_poses"].get<double>(), m["test"]["psnr"].get<double>());
+}
+
 // Pose refinement: the corrections are part of the run's state (a resumed run is the same
 // run, whatever the thread count), and metrics.json says how the test views were scored.
 TEST(TrainCli, PoseRefinementAndExposureMapsResumeExactlyAndReportTheirProtocol) {
@@ -338,6 +356,7 @@ TEST(TrainCli, PoseRefinementAndExposureMapsResumeExactlyAndReportTheirProtocol)
   EXPECT_EQ(m["pose_refinement"]["training_views"], 12);
   EXPECT_GT(m["pose_refinement"]["mean_rotation_correction_deg"].get<double>(), 0.0);  // it moved
   EXPECT_NE(m["pose_refinement"]["test_protocol"].get<std::string>().find("aligned"), std::string::npos);
+  EXPECT_TRUE(m["pose_refinement"]["test_psnr_at_recorded_poses"].is_number()) << m.dump();
   EXPECT_EQ(read_json(dir / "straight" / "config.json")["refine_poses"], true);
   // The training views' poses as trained, one frame per view, readable as cameras.
   const std::vector<CameraFrame> trained = load_transforms(dir / "straight" / "training_cameras.json");
