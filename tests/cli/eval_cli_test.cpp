@@ -99,7 +99,12 @@ TEST(EvalCli, TrainsBothMethodsAndWritesResultsModelsRendersAndGrids) {
     EXPECT_GT(m.at("scoring").at("final_score_seconds").get<double>(), 0.0);
     EXPECT_GE(m.at("scoring").at("skipped_scores").get<int>(), 0);
     const auto& history = m.at("history");
-    ASSERT_GE(history.size(), 2u);
+    // Scores fall due every 0.05 s of a run that trains for longer; each is taken or, when it
+    // would push scoring past its share, skipped. Which of the two depends on the machine's
+    // load (under CI's the NeRF's were all skipped), but at least one fell due, and the final
+    // score is always there.
+    ASSERT_GE(history.size(), 1u);
+    EXPECT_GE(history.size() - 1 + m.at("scoring").at("skipped_scores").get<std::size_t>(), 1u);
     for (std::size_t i = 0; i < history.size(); ++i) {
       for (const char* key : {"seconds", "iteration", "test_psnr", "test_ssim"})
         ASSERT_TRUE(history[i].contains(key)) << key << " missing in " << history[i].dump();
