@@ -5,7 +5,7 @@
 // budget decides (lego400, refined from 1° / 1 % pose errors: 24.48 dB at the recorded poses,
 // 33.33 after 30 steps, 33.85 after 200). Prints one JSON line. The rate and factor
 // default to training's (SplatTrainingConfig); the corrections turn about the camera centre.
-// With --training-cameras (the run's training_cameras.json) each test pose is first carried
+// With --training-cameras (the run's cameras_train.json) each test pose is first carried
 // into the model's frame by the similarity the training poses moved by, as the trainer does.
 //   build/bench/splat-alignment-rescore --model M.ply --data DIR [--steps 30] [--lr R]
 //       [--final-factor F] [--training-cameras FILE] [--threads N]

@@ -48,7 +48,8 @@ and a verdict per run: diverged, collapsed = no better than the background alone
 failed = below the absolute floor, the higher of the background alone + 3 dB and 20 dB
 (whatever the baseline), degraded = over 3 dB below the method's all-views run, else ok; for a refined run also its
 training cameras' error against the true poses, before and after, once a similarity is
-fitted) and stability/<condition>/<method>/ (a refined run's training_cameras.json there).
+fitted) and stability/<condition>/<method>/ (each run's cameras_train.json there: a refined run's
+training cameras as trained).
 
 With --sweep-gaussians N,N,..., instead: one splat method (splat, i.e. compact, unless
 --methods splat-official) under each Gaussian budget for S seconds, into sweep.json (PSNR,

@@ -125,7 +125,7 @@ MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, Ev
   }
   const fs::path model_file = request.out_dir / trainer->model_file_name();
   trainer->write_model(model_file);
-  write_refined_training_cameras(*trainer, dataset, request.out_dir / kTrainingCamerasFileName);
+  write_view_cameras(*trainer, dataset, request.out_dir);
 
   const double final_psnr = history.back()["test_psnr"], final_ssim = history.back()["test_ssim"];
   j["history"] = history;

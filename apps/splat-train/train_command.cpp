@@ -313,8 +313,7 @@ void TrainingRun::write_outputs(const std::string& stopped_by, double train_seco
     write_png(renders[i], options_.out / "test" / (dataset_.test[i].name + ".png"));
   const fs::path model_file = model_path();
   trainer_->write_model(model_file);
-  const fs::path cameras_file = options_.out / kTrainingCamerasFileName;
-  const bool wrote_cameras = write_refined_training_cameras(*trainer_, dataset_, cameras_file);
+  const std::vector<fs::path> camera_files = write_view_cameras(*trainer_, dataset_, options_.out);
   const nlohmann::json m = metrics(stopped_by, train_seconds, fs::file_size(model_file));
   write_json(options_.out / "metrics.json", m);
   if (!options_.quiet && stopped_by == stop_reason_name(StopReason::kValidation))
@@ -326,9 +325,10 @@ void TrainingRun::write_outputs(const std::string& stopped_by, double train_seco
                   trainer_->iteration(), format_duration(train_seconds).c_str(), trainer_->model_size().c_str(),
                   last_test_->psnr, last_test_->ssim, last_test_->views);
     progress_.message(line);
-    progress_.message("outputs: " + model_file.string() + ", " +
-                      (wrote_cameras ? cameras_file.string() + ", " : std::string()) +
-                      (options_.out / "metrics.json").string() + ", " +
+    std::string cameras;
+    for (const fs::path& file : camera_files) cameras += file.string() + ", ";
+    progress_.message("outputs: " + model_file.string() + ", " + cameras + (options_.out / "metrics.json").string() +
+                      ", " +
                       (options_.out / "test").string() + "/*.png");
   }
 }

@@ -175,17 +175,25 @@ std::unique_ptr<TrainerAdapter> make_trainer(const std::string& method, const Sp
   return std::make_unique<SplatAdapter>(dataset, splat_config);
 }
 
-bool write_refined_training_cameras(const TrainerAdapter& trainer, const Dataset& dataset,
-                                    const std::filesystem::path& file) {
-  const std::vector<Camera> cameras = trainer.refined_training_cameras();
-  if (cameras.empty()) {
-    std::filesystem::remove(file);  // an earlier refined run's in the same folder: not this model's
-    return false;
+std::vector<std::filesystem::path> write_view_cameras(const TrainerAdapter& trainer, const Dataset& dataset,
+                                                      const std::filesystem::path& folder) {
+  const auto names_of = [](const std::vector<DatasetView>& views) {
+    std::vector<std::string> names;
+    for (const DatasetView& view : views) names.push_back(view.name);
+    return names;
+  };
+  std::vector<Camera> trained = trainer.refined_training_cameras();
+  if (trained.empty()) trained = cameras_of(dataset.train);
+  std::vector<std::filesystem::path> written{folder / kTrainCamerasFileName};
+  write_transforms(written.back(), trained, names_of(dataset.train));
+  const std::filesystem::path test_file = folder / kTestCamerasFileName;
+  if (dataset.test.empty()) {
+    std::filesystem::remove(test_file);  // an earlier run's, of other views
+    return written;
   }
-  std::vector<std::string> names;
-  for (const DatasetView& view : dataset.train) names.push_back(view.name);
-  write_transforms(file, cameras, names);
-  return true;
+  write_transforms(test_file, cameras_of(dataset.test), names_of(dataset.test));
+  written.push_back(test_file);
+  return written;
 }
 
 }  // namespace splat

@@ -66,12 +66,16 @@ class TrainerAdapter {
 std::unique_ptr<TrainerAdapter> make_trainer(const std::string& method, const SplatTrainingConfig& splat_config,
                                              const NerfTrainingConfig& nerf_config, const Dataset& dataset);
 
-// Where a run under pose refinement leaves its training views' cameras as trained, beside the
-// model: transforms JSON that splat-render --cameras reads (each frame named as its view).
-inline constexpr const char* kTrainingCamerasFileName = "training_cameras.json";
-// Writes them to `file` (atomically) and returns true; when the method corrected no poses,
-// removes a `file` left by an earlier run in the same folder and returns false.
-bool write_refined_training_cameras(const TrainerAdapter& trainer, const Dataset& dataset,
-                                    const std::filesystem::path& file);
+// Where a run leaves the cameras of the views it trained and tested on, beside the model:
+// transforms JSON at the size it trained at, each frame named as its view, for any input
+// format, so that splat-render --cameras and the viewer's [ ] show the user's own views. The
+// training views' are their cameras as trained (corrected under pose refinement), the test
+// views' their recorded ones.
+inline constexpr const char* kTrainCamerasFileName = "cameras_train.json";
+inline constexpr const char* kTestCamerasFileName = "cameras_test.json";
+// Writes both into `folder` (atomically) and returns the files written: the test views' only
+// when there are some, removing a file an earlier run in the same folder left otherwise.
+std::vector<std::filesystem::path> write_view_cameras(const TrainerAdapter& trainer, const Dataset& dataset,
+                                                      const std::filesystem::path& folder);
 
 }  // namespace splat

@@ -13,6 +13,7 @@
 
 #include "tests/cli_support.hpp"
 #include "tests/data/dataset_test_folders.hpp"
+#include "splat/data/dataset.hpp"
 #include "splat/data/image_io.hpp"
 #include "splat/data/transforms_json.hpp"
 #include "splat/gaussians/ply_io.hpp"
@@ -161,7 +162,7 @@ TEST(TrainCli, ResumeContinuesExactly) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(test::read_file(dir / "straight" / "model.ply") == test::read_file(dir / "split" / "model.ply"))
         << strategy << ": the resumed run's model differs from the uninterrupted run's";
-    EXPECT_FALSE(fs::exists(dir / "straight" / "training_cameras.json")) << "no poses were refined";
+    EXPECT_TRUE(fs::exists(dir / "straight" / "cameras_train.json")) << strategy;
   }
 }
 
@@ -359,7 +360,7 @@ TEST(TrainCli, PoseRefinementAndExposureMapsResumeExactlyAndReportTheirProtocol)
   EXPECT_TRUE(m["pose_refinement"]["test_psnr_at_recorded_poses"].is_number()) << m.dump();
   EXPECT_EQ(read_json(dir / "straight" / "config.json")["refine_poses"], true);
   // The training views' poses as trained, one frame per view, readable as cameras.
-  const std::vector<CameraFrame> trained = load_transforms(dir / "straight" / "training_cameras.json");
+  const std::vector<CameraFrame> trained = load_transforms(dir / "straight" / "cameras_train.json");
   ASSERT_EQ(trained.size(), 12u);
   const std::vector<CameraFrame> recorded = load_transforms(tiny_dataset() / "transforms_train.json");
   double moved = 0;
@@ -371,10 +372,15 @@ TEST(TrainCli, PoseRefinementAndExposureMapsResumeExactlyAndReportTheirProtocol)
   EXPECT_GT(m["exposure_compensation"]["max_abs_log_gain"].get<double>(), 0.0);  // the maps moved
   EXPECT_NE(m["exposure_compensation"]["test_protocol"].get<std::string>().find("without"), std::string::npos);
   EXPECT_EQ(read_json(dir / "straight" / "config.json")["exposure_compensation"], true);
-  // A later run without refinement in the same folder leaves no poses that are not its model's.
+  // A later run without refinement in the same folder leaves its own training cameras: the recorded ones.
   r = test::run_command(train_command(dir / "straight", "--iters 20 --test-every 0 --quiet"), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_FALSE(fs::exists(dir / "straight" / "training_cameras.json"));
+  const std::vector<CameraFrame> unrefined = load_transforms(dir / "straight" / "cameras_train.json");
+  ASSERT_EQ(unrefined.size(), recorded.size());
+  for (std::size_t i = 0; i < unrefined.size(); ++i)
+    EXPECT_LT(glm::length(unrefined[i].camera.camera_from_world_translation -
+                          recorded[i].camera.camera_from_world_translation),
+              1e-5f);
   // The NeRF has no poses to refine.
   r = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --data " + tiny_dataset().string() + " --out " +
                             (dir / "nerf").string() + " --method nerf --refine-poses --iters 1",
@@ -405,6 +411,71 @@ TEST(TrainCli, ScheduleSpansTheRunAndIsKeptOnResume) {
   const nlohmann::json resumed = read_json(dir / "out" / "config.json");
   EXPECT_EQ(resumed.at("schedule_iterations"), 60);
   EXPECT_EQ(resumed.at("iterations"), 90);
+}
+
+// Every run leaves the views it trained and tested on as transforms files, whatever the input
+// format: from a COLMAP capture at --downscale 2, the cameras as loaded (intrinsics at half
+// size, one camera per image where they differ), each frame named as its view, and
+// splat-render renders the test views from them under those names.
+TEST(TrainCli, WritesTheViewsItTrainedAndTestedOnAsTransformsFiles) {
+  const fs::path dir = test::scratch_dir("train_cli_view_cameras");
+  test::TestModel model;
+  model.cameras = {{1, ColmapCameraModel::kPinhole, 24, 18, {22.0, 22.0, 12.0, 9.0}},
+                   {2, ColmapCameraModel::kPinhole, 24, 18, {26.0, 25.0, 11.0, 9.5}}};
+  for (int i = 0; i < 10; ++i) {
+    ColmapImage image;
+    image.id = std::uint32_t(1 + i);
+    const double angle = 0.1 * (i - 5);  // an arc 4 units out, facing in
+    image.quaternion = {std::cos(angle / 2), 0.0, std::sin(angle / 2), 0.0};
+    image.translation = {0.1 * i, -0.05 * i, 4.0};
+    image.camera_id = std::uint32_t(1 + i % 2);
+    image.name = "shot_" + std::to_string(i) + ".png";
+    model.images.push_back(image);
+  }
+  for (int i = 0; i < 100; ++i) model.points.push_back({{0.2 * (i % 10) - 0.9, 0.2 * (i / 10) - 0.9, 0.0}, {90, 60, 30}});
+  test::write_colmap_folder(dir / "capture", model, test::ModelForm::kText);
+  for (const ColmapImage& image : model.images)
+    write_png(Image(24, 18, 3, 0.4f), dir / "capture" / "images" / image.name);
+  auto r = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --data " + (dir / "capture").string() + " --out " +
+                                 (dir / "out").string() + " --downscale 2 --iters 20 --quiet",
+                             dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  DatasetOptions options;
+  options.downscale = 2;
+  const Dataset dataset = load_dataset(dir / "capture", options);
+  ASSERT_FALSE(dataset.test.empty());
+  const auto expect_cameras_of = [](const fs::path& file, const std::vector<DatasetView>& views) {
+    const std::vector<CameraFrame> frames = load_transforms(file);
+    ASSERT_EQ(frames.size(), views.size()) << file;
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      const Camera &written = frames[i].camera, &loaded = views[i].camera;
+      EXPECT_EQ(frames[i].name, views[i].name);
+      EXPECT_EQ(written.width, loaded.width);
+      EXPECT_EQ(written.height, loaded.height);
+      EXPECT_FLOAT_EQ(written.fx, loaded.fx);
+      EXPECT_FLOAT_EQ(written.fy, loaded.fy);
+      EXPECT_FLOAT_EQ(written.cx, loaded.cx);
+      EXPECT_FLOAT_EQ(written.cy, loaded.cy);
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(written.camera_from_world_translation[c], loaded.camera_from_world_translation[c], 1e-5f);
+        for (int k = 0; k < 3; ++k)
+          EXPECT_NEAR(written.camera_from_world_rotation[c][k], loaded.camera_from_world_rotation[c][k], 1e-6f);
+      }
+    }
+  };
+  expect_cameras_of(dir / "out" / "cameras_train.json", dataset.train);
+  expect_cameras_of(dir / "out" / "cameras_test.json", dataset.test);
+  EXPECT_NE(dataset.train[0].camera.fx, dataset.train[1].camera.fx);  // two cameras, both kept
+  r = test::run_command(std::string(SPLAT_RENDER_EXE) + " --model " + (dir / "out" / "model.ply").string() +
+                            " --cameras " + (dir / "out" / "cameras_test.json").string() + " --out " +
+                            (dir / "renders").string(),
+                        dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  for (const DatasetView& view : dataset.test) {
+    const Image render = read_image(dir / "renders" / (view.name + ".png"));
+    EXPECT_EQ(render.width, view.camera.width) << view.name;
+    EXPECT_EQ(render.height, view.camera.height) << view.name;
+  }
 }
 
 // A COLMAP capture whose held-out views disagree with every other: the training photographs
