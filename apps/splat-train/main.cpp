@@ -38,6 +38,8 @@ DIR/test/<view>.png, DIR/config.json and DIR/checkpoint.ckpt.
   --downscale K         train and evaluate at 1/K of the image size (default 1)
   --train-views N       train on N of the training views, spread evenly through them, the
                         test views unchanged (a sparser capture of the same scene; default all)
+  --holdout-every K     COLMAP data: every K-th image in name order is a test view (default
+                        8; 0 = none: every view trains, and there is no test score)
   --max-gaussians N     Gaussian budget: densification never exceeds it (default: none)
   --batch B             views per optimiser step, the loss their mean (default 1); iterations
                         still count views, so --iters must be a multiple of B
@@ -96,8 +98,8 @@ void apply_options(const splat::cli::ArgParser& args, Config& config,
 int train_main(int argc, char** argv, splat::ProcessGroup* ranks) {
   splat::cli::ArgParser args(argc, argv,
                              {"data", "out", "method", "strategy", "iters", "max-seconds", "bg", "seed",
-                              "threads", "downscale", "train-views", "max-gaussians", "batch", "test-every",
-                              "checkpoint-every", "resume", "config"},
+                              "threads", "downscale", "train-views", "holdout-every", "max-gaussians", "batch",
+                              "test-every", "checkpoint-every", "resume", "config"},
                              {"help", "quiet", "refine-poses", "exposure-compensation"});
   if (args.has("help")) {
     std::fputs(kUsage, stdout);
@@ -142,6 +144,10 @@ int train_main(int argc, char** argv, splat::ProcessGroup* ranks) {
   if (auto n = args.positive_integer("threads")) options.threads = *n;
   if (auto k = args.positive_integer("downscale")) options.dataset.downscale = *k;
   if (auto n = args.positive_integer("train-views")) options.dataset.train_views = *n;
+  if (auto k = args.integer("holdout-every")) {
+    if (*k < 0) throw splat::ArgumentError("--holdout-every must be >= 0 (0: every view trains)");
+    options.dataset.holdout_every = int(*k);
+  }
   if (auto r = args.value("resume")) options.resume = *r;
   options.quiet = args.has("quiet") || (ranks && ranks->rank() != 0);  // rank 0 reports
   options.group = ranks;

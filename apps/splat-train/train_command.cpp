@@ -201,7 +201,8 @@ int TrainingRun::run() {
   // official trainer's report at iteration N sees. Scored after them instead, fresh
   // splits and reset opacities would depress every test point that falls on a
   // densification (all multiples of 100 up to 15,000).
-  loop.score_every_iterations = leads() ? schedule_.test_interval : 0;  // rank 0 scores
+  // Rank 0 scores, when there is something to score (--holdout-every 0 leaves no test views).
+  loop.score_every_iterations = leads() && !dataset_.test.empty() ? schedule_.test_interval : 0;
   loop.views_per_step = schedule_.views_per_step;
   loop.score_views = &dataset_.test;
   loop.resumed_seconds = resumed_seconds_;
@@ -302,15 +303,18 @@ nlohmann::json TrainingRun::metrics(const std::string& stopped_by, double train_
 }
 
 void TrainingRun::write_outputs(const std::string& stopped_by, double train_seconds) {
-  std::vector<Image> renders;
-  last_test_ = trainer_->evaluate(dataset_.test, &renders);
   if (history_.empty() || history_.back()["iteration"] != trainer_->iteration())
     history_.push_back({{"iteration", trainer_->iteration()}, {"seconds", train_seconds},
                         {"loss", last_loss_}, {"num_gaussians", trainer_->num_gaussians()}});
-  add_test_scores(history_.back(), *last_test_);
-  fs::create_directories(options_.out / "test");
-  for (std::size_t i = 0; i < renders.size(); ++i)
-    write_png(renders[i], options_.out / "test" / (dataset_.test[i].name + ".png"));
+  const bool scored = !dataset_.test.empty();
+  if (scored) {
+    std::vector<Image> renders;
+    last_test_ = trainer_->evaluate(dataset_.test, &renders);
+    add_test_scores(history_.back(), *last_test_);
+    fs::create_directories(options_.out / "test");
+    for (std::size_t i = 0; i < renders.size(); ++i)
+      write_png(renders[i], options_.out / "test" / (dataset_.test[i].name + ".png"));
+  }
   const fs::path model_file = model_path();
   trainer_->write_model(model_file);
   const std::vector<fs::path> camera_files = write_view_cameras(*trainer_, dataset_, options_.out);
@@ -320,16 +324,21 @@ void TrainingRun::write_outputs(const std::string& stopped_by, double train_seco
     progress_.message(trainer_->finished_summary());
   if (!options_.quiet) {
     char line[256];
-    std::snprintf(line, sizeof(line),
-                  "done: %d iterations in %s, %s, test PSNR %.3f dB, SSIM %.4f (%d views)",
-                  trainer_->iteration(), format_duration(train_seconds).c_str(), trainer_->model_size().c_str(),
-                  last_test_->psnr, last_test_->ssim, last_test_->views);
-    progress_.message(line);
+    std::snprintf(line, sizeof(line), "done: %d iterations in %s, %s", trainer_->iteration(),
+                  format_duration(train_seconds).c_str(), trainer_->model_size().c_str());
+    std::string done = line;
+    if (scored) {
+      std::snprintf(line, sizeof(line), ", test PSNR %.3f dB, SSIM %.4f (%d views)", last_test_->psnr,
+                    last_test_->ssim, last_test_->views);
+      done += line;
+    } else {
+      done += " (no test views: nothing scored)";
+    }
+    progress_.message(done);
     std::string cameras;
     for (const fs::path& file : camera_files) cameras += file.string() + ", ";
     progress_.message("outputs: " + model_file.string() + ", " + cameras + (options_.out / "metrics.json").string() +
-                      ", " +
-                      (options_.out / "test").string() + "/*.png");
+                      (scored ? ", " + (options_.out / "test").string() + "/*.png" : std::string()));
   }
 }
 

@@ -119,6 +119,9 @@ bool has_cameras_file(const fs::path& dir) {
 Dataset load_dataset(const fs::path& folder, const DatasetOptions& options) {
   if (options.downscale < 1)
     throw ArgumentError("downscale must be 1 or more, not " + std::to_string(options.downscale));
+  if (options.holdout_every && *options.holdout_every < 0)
+    throw ArgumentError("holding out every K-th view needs K = 0 (none) or more, not " +
+                        std::to_string(*options.holdout_every));
   if (options.train_views < 0)
     throw ArgumentError("the number of training views must be 1 or more, not " + std::to_string(options.train_views));
   std::error_code ec;
@@ -127,6 +130,9 @@ Dataset load_dataset(const fs::path& folder, const DatasetOptions& options) {
 
   Dataset dataset;
   if (fs::exists(folder / "transforms_train.json", ec)) {
+    if (options.holdout_every)
+      throw InputError(folder, "a Blender dataset's test views are those of its transforms_test.json; "
+                               "holding out every K-th view is for COLMAP data");
     dataset = dataset_detail::load_blender(folder, options);
   } else if (fs::is_directory(folder / "sparse" / "0", ec)) {
     dataset = dataset_detail::load_colmap(folder, folder / "sparse" / "0", options);

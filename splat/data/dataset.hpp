@@ -35,6 +35,10 @@ struct DatasetOptions {
   // Train on this many of the training views (keep_training_views), 0 = all; the test views
   // stay as they are: a sparser capture of the same scene, scored on the same views.
   int train_views = 0;
+  // COLMAP data: every K-th image in name order is a test view (i % K == 0), 0 = none, all
+  // views train. Blender data names its test views in transforms_test.json, and setting this
+  // for it is an error.
+  std::optional<int> holdout_every;
 };
 
 struct Dataset {
@@ -50,7 +54,7 @@ struct Dataset {
 // transforms_val.json) or a COLMAP folder (sparse/0/{cameras,images,points3D}.{bin,txt} and
 // images/). COLMAP: PINHOLE and SIMPLE_PINHOLE as they are; SIMPLE_RADIAL, RADIAL and OPENCV
 // undistorted on load to a pinhole camera with the same focal length and principal point;
-// test views are every 8th image in name order (i % 8 == 0). Throws InputError naming the
+// test views are every 8th image in name order (i % 8 == 0; DatasetOptions::holdout_every). Throws InputError naming the
 // file on missing or unreadable images, images of the wrong size, a transforms file without
 // frames, an unknown camera model, an empty point cloud, or a folder of neither kind.
 Dataset load_dataset(const std::filesystem::path& folder, const DatasetOptions& options = {});

@@ -138,12 +138,13 @@ Dataset load_colmap(const fs::path& folder, const fs::path& sparse_dir,
   });
 
   Dataset dataset;
+  const std::size_t every = std::size_t(options.holdout_every.value_or(kTestEvery));
   for (std::size_t i = 0; i < views.size(); ++i)
-    (i % kTestEvery == 0 ? dataset.test : dataset.train).push_back(std::move(views[i]));
+    (every > 0 && i % every == 0 ? dataset.test : dataset.train).push_back(std::move(views[i]));
   if (dataset.train.empty())
-    throw InputError(model.images_file,
-                     "only " + std::to_string(views.size()) +
-                         " image(s): with every 8th held out for testing none is left to train on");
+    throw InputError(model.images_file, "only " + std::to_string(views.size()) + " image(s): with one in " +
+                                            std::to_string(every) +
+                                            " held out for testing none is left to train on");
   dataset.points = PointCloud{std::move(model.point_positions), std::move(model.point_colors)};
   return dataset;
 }

@@ -416,8 +416,9 @@ TEST(TrainCli, ScheduleSpansTheRunAndIsKeptOnResume) {
 // Every run leaves the views it trained and tested on as transforms files, whatever the input
 // format: from a COLMAP capture at --downscale 2, the cameras as loaded (intrinsics at half
 // size, one camera per image where they differ), each frame named as its view, and
-// splat-render renders the test views from them under those names.
-TEST(TrainCli, WritesTheViewsItTrainedAndTestedOnAsTransformsFiles) {
+// splat-render renders the test views from them under those names. --holdout-every chooses
+// the test views.
+TEST(TrainCli, WritesTheViewsItTrainedAndTestedOnAsTransformsFilesAndHoldsOutWhatItIsTold) {
   const fs::path dir = test::scratch_dir("train_cli_view_cameras");
   test::TestModel model;
   model.cameras = {{1, ColmapCameraModel::kPinhole, 24, 18, {22.0, 22.0, 12.0, 9.0}},
@@ -476,6 +477,25 @@ TEST(TrainCli, WritesTheViewsItTrainedAndTestedOnAsTransformsFiles) {
     EXPECT_EQ(render.width, view.camera.width) << view.name;
     EXPECT_EQ(render.height, view.camera.height) << view.name;
   }
+
+  // --holdout-every 0: every view trains, nothing is scored, and no test file is left behind
+  // (the folder's earlier run wrote one).
+  r = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --data " + (dir / "capture").string() + " --out " +
+                            (dir / "out").string() + " --downscale 2 --iters 20 --holdout-every 0",
+                        dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("no test views: nothing scored"), std::string::npos) << r.out;
+  const nlohmann::json m = read_json(dir / "out" / "metrics.json");
+  EXPECT_FALSE(m.contains("test")) << m.dump();
+  for (const nlohmann::json& entry : m.at("history")) EXPECT_FALSE(entry.contains("test_psnr"));
+  EXPECT_EQ(load_transforms(dir / "out" / "cameras_train.json").size(), 10u);
+  EXPECT_FALSE(fs::exists(dir / "out" / "cameras_test.json"));
+  r = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --data " + (dir / "capture").string() + " --out " +
+                            (dir / "bad").string() + " --holdout-every -1",
+                        dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--holdout-every must be >= 0"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "bad"));
 }
 
 // A COLMAP capture whose held-out views disagree with every other: the training photographs

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "tests/data/dataset_test_folders.hpp"
+#include "splat/core/error.hpp"
 #include "splat/data/dataset_loading.hpp"
 #include "splat/data/undistort.hpp"
 
@@ -295,6 +296,40 @@ TEST(DatasetFolders, TrainingViewsCanBeThinnedWithTheTestViewsKept) {
   EXPECT_FLOAT_EQ(d.scene_extent, dataset_detail::scene_extent(d.train));
   options.train_views = 50;  // more than there are: all of them
   EXPECT_EQ(load_dataset(dir, options).train.size(), 8u);
+}
+
+// --holdout-every K: every K-th image in name order is a test view; 0 holds none out. Blender
+// folders name their test views and refuse it; a negative K is refused.
+TEST(DatasetFolders, ColmapHoldsOutEveryKthViewOrNone) {
+  const fs::path dir = test::scratch_dir("dataset_colmap_holdout");
+  test::write_colmap_folder(dir, folder_model(10), ModelForm::kBinary);
+  DatasetOptions options;
+  options.holdout_every = 4;
+  Dataset d = load_dataset(dir, options);
+  ASSERT_EQ(d.test.size(), 3u);  // img_00, img_04, img_08
+  EXPECT_EQ(d.test[0].name, "img_00");
+  EXPECT_EQ(d.test[1].name, "img_04");
+  EXPECT_EQ(d.test[2].name, "img_08");
+  EXPECT_EQ(d.train.size(), 7u);
+  options.holdout_every = 0;
+  d = load_dataset(dir, options);
+  EXPECT_TRUE(d.test.empty());
+  ASSERT_EQ(d.train.size(), 10u);
+  EXPECT_EQ(d.train[0].name, "img_00");
+  options.holdout_every = 1;  // every view a test view: nothing to train on
+  EXPECT_THROW(load_dataset(dir, options), InputError);
+  options.holdout_every = -1;
+  EXPECT_THROW(load_dataset(dir, options), ArgumentError);
+
+  const fs::path blender = test::scratch_dir("dataset_blender_holdout");
+  test::write_blender_folder(blender, 4, 4, 2, 1, /*channels=*/3, "transforms_test.json");
+  options.holdout_every = 8;
+  try {
+    load_dataset(blender, options);
+    ADD_FAILURE() << "a Blender folder took --holdout-every";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("transforms_test.json"), std::string::npos) << e.what();
+  }
 }
 
 TEST(DatasetFolders, ColmapModelDirectlyInSparse) {
