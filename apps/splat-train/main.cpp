@@ -19,7 +19,9 @@ constexpr const char* kUsage = R"(usage: splat-train --data DIR --out DIR [optio
 Trains 3D Gaussian splats on a Blender/NeRF-synthetic or COLMAP dataset on the CPU, with the
 official 3DGS optimisation (L1 + SSIM loss, Adam, adaptive density control). Writes
 DIR/model.ply (standard 3DGS PLY), DIR/metrics.json (history and final test metrics),
-DIR/test/<view>.png, DIR/config.json and DIR/checkpoint.ckpt.
+DIR/test/<view>.png, DIR/config.json, DIR/checkpoint.ckpt, and the views trained and tested
+on as transforms files (DIR/cameras_train.json, DIR/cameras_test.json) that splat-render
+--cameras and splat-viewer --cameras read.
 
   --data DIR            Blender folder (transforms_train.json, transforms_test|val.json)
                         or COLMAP folder (sparse/0, images/), detected automatically

@@ -54,9 +54,10 @@ struct Dataset {
 // transforms_val.json) or a COLMAP folder (sparse/0/{cameras,images,points3D}.{bin,txt} and
 // images/). COLMAP: PINHOLE and SIMPLE_PINHOLE as they are; SIMPLE_RADIAL, RADIAL and OPENCV
 // undistorted on load to a pinhole camera with the same focal length and principal point;
-// test views are every 8th image in name order (i % 8 == 0; DatasetOptions::holdout_every). Throws InputError naming the
-// file on missing or unreadable images, images of the wrong size, a transforms file without
-// frames, an unknown camera model, an empty point cloud, or a folder of neither kind.
+// test views are every 8th image in name order (i % 8 == 0), or as DatasetOptions::holdout_every
+// says. Throws InputError naming the file on missing or unreadable images, images of the wrong
+// size, a transforms file without frames, an unknown camera model, an empty point cloud, or a
+// folder of neither kind.
 Dataset load_dataset(const std::filesystem::path& folder, const DatasetOptions& options = {});
 
 // Keeps `count` of the training views, spread evenly through their order (view i·n/count for
