@@ -11,6 +11,8 @@
 #include "tests/data/png_bytes.hpp"
 #include "splat/gaussians/demo_model.hpp"
 #include "splat/gaussians/ply_io.hpp"
+#include "splat/gaussians/splat_file.hpp"
+#include "splat/gaussians/spz_file.hpp"
 #include "splat/nerf/nerf_file.hpp"
 #include "fuzz/tiny_training_setup.hpp"
 
@@ -22,6 +24,15 @@ namespace {
 void write_bytes(const fs::path& file, const std::string& bytes) {
   fs::create_directories(file.parent_path());
   std::ofstream(file, std::ios::binary) << bytes;
+}
+
+// The demo model in each web format, at the highest SH degree each holds.
+void write_web_model_seeds(const fs::path& splat_dir, const fs::path& spz_dir) {
+  fs::create_directories(splat_dir);
+  fs::create_directories(spz_dir);
+  const GaussianModel model = make_demo_model(3, 1);
+  write_splat_file(model, splat_dir / "demo.splat");
+  write_spz_file(model, spz_dir / "demo.spz");
 }
 
 void write_ply_seeds(const fs::path& dir) {
@@ -103,6 +114,7 @@ int main(int argc, char** argv) {
   }
   const fs::path out = argv[1];
   write_ply_seeds(out / "ply");
+  write_web_model_seeds(out / "splat_file", out / "spz_file");
   write_image_seeds(out / "image", argv[2]);
   write_nerf_seed(out / "nerf_file");
   write_checkpoint_seeds(out / "checkpoint");

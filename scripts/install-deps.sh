@@ -9,6 +9,7 @@ PACKAGES=(
   libglm-dev libeigen3-dev libembree-dev
   libopenimageio-dev openimageio-tools   # the OIIO CMake export references its tools
   libpng-dev libjpeg-dev                 # PNG and JPEG reading with our own error handlers
+  zlib1g-dev                             # the gzip layer of .spz models
   libtinygltf-dev libglfw3-dev libtbb-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev
   python3                                # scenes/generate (scene assets), bench/history.py

@@ -18,7 +18,8 @@ constexpr const char* kUsage = R"(usage: splat-render --model FILE --cameras TRA
 Renders every frame of a Blender/NeRF-synthetic transforms JSON with the CPU Gaussian
 rasterizer and writes <out>/<frame name>.png.
 
-  --model FILE        3DGS PLY model (.ply) or NeRF (.nerf, from splat-train --method nerf)
+  --model FILE        Gaussian model (.ply, .splat, .spz) or NeRF (.nerf, from splat-train
+                      --method nerf)
   --cameras FILE      transforms JSON (camera_angle_x or fl_x/fl_y/cx/cy, transform_matrix)
   --out DIR           output folder (created if missing)
   --width, --height   image size (default: the dataset's images, else 800x800)

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <tbb/global_control.h>
@@ -11,7 +12,7 @@
 #include "splat/core/error.hpp"
 #include "splat/data/image_io.hpp"
 #include "splat/data/transforms_json.hpp"
-#include "splat/gaussians/ply_io.hpp"
+#include "splat/gaussians/model_file.hpp"
 #include "splat/nerf/nerf_file.hpp"
 #include "splat/nerf/nerf_renderer.hpp"
 #include "splat/raster/rasterizer.hpp"
@@ -72,17 +73,19 @@ int render_nerf(const RenderCommandOptions& options, const std::vector<CameraFra
 
 int run_render_command(const RenderCommandOptions& options) {
   if (std::filesystem::is_directory(options.model))
-    throw InputError(options.model, "is a folder, not a model file (splat-render reads .ply and .nerf)");
+    throw InputError(options.model, "is a folder, not a model file (splat-render reads " +
+                                        std::string(kGaussianModelExtensions) + " and .nerf)");
   const std::string extension = options.model.extension().string();
-  if (extension != ".ply" && extension != ".nerf")
-    throw InputError(options.model, "unsupported model format '" + extension +
-                                        "' (splat-render reads .ply and .nerf)");
+  const bool gaussians = is_gaussian_model_extension(extension);
+  if (!gaussians && extension != ".nerf")
+    throw InputError(options.model, "unsupported model format '" + extension + "' (splat-render reads " +
+                                        std::string(kGaussianModelExtensions) + " and .nerf)");
   TransformsOptions transforms_options;
   transforms_options.width = options.width;
   transforms_options.height = options.height;
   // The model first: a missing or malformed model is the likelier mistake, and is named.
   std::optional<GaussianModel> splats;
-  if (extension == ".ply") splats = read_ply(options.model);
+  if (gaussians) splats = read_gaussian_model(options.model);
   else if (!std::filesystem::exists(options.model)) throw InputError(options.model, "file does not exist");
   const std::vector<CameraFrame> frames = load_transforms(options.cameras, transforms_options);
 

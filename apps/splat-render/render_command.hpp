@@ -7,7 +7,7 @@
 namespace splat::cli {
 
 struct RenderCommandOptions {
-  std::filesystem::path model;     // .ply
+  std::filesystem::path model;     // .ply, .splat, .spz or .nerf
   std::filesystem::path cameras;   // transforms JSON
   std::filesystem::path out;       // output folder, created if missing
   int width = 0, height = 0;       // 0: the dataset's image size, else 800 x 800

@@ -12,7 +12,7 @@ namespace {
 
 constexpr const char* kUsage = R"(usage: splat-viewer FILE [FILE2] [options]
 
-Shows a 3DGS model (.ply) or a NeRF (.nerf) in a window, rendered by the CPU rasterizer
+Shows a Gaussian model (.ply, .splat, .spz) or a NeRF (.nerf) in a window, rendered by the CPU rasterizer
 (or the NeRF renderer) every frame; with two files, both side by side under one camera.
 
 Controls: left drag orbit, right/middle drag pan, scroll zoom, W A S D Q E fly, R reset,

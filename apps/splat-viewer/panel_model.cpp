@@ -2,9 +2,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <string>
 
 #include "splat/core/error.hpp"
-#include "splat/gaussians/ply_io.hpp"
+#include "splat/gaussians/model_file.hpp"
 #include "splat/nerf/nerf_file.hpp"
 #include "splat/nerf/nerf_renderer.hpp"
 
@@ -111,8 +112,10 @@ void to_rgba8(const Image& image, std::vector<std::uint8_t>& rgba) {
 std::unique_ptr<PanelModel> load_panel_model(const std::filesystem::path& file) {
   if (!std::filesystem::exists(file)) throw InputError(file, "no such file");
   if (is_nerf_file(file)) return std::make_unique<NerfPanel>(read_nerf(file));
-  if (file.extension() == ".ply") return std::make_unique<SplatPanel>(read_ply(file));
-  throw InputError(file, "not a model splat-viewer reads (a 3DGS .ply or a .nerf from splat-train)");
+  if (is_gaussian_model_extension(file.extension().string()))
+    return std::make_unique<SplatPanel>(read_gaussian_model(file));
+  throw InputError(file, "not a model splat-viewer reads (a Gaussian model: " + std::string(kGaussianModelExtensions) +
+                             "; or a .nerf from splat-train)");
 }
 
 }  // namespace splat::viewer

@@ -14,6 +14,8 @@
 
 #include "splat/core/atomic_file.hpp"
 #include "splat/core/error.hpp"
+#include "splat/core/file_bytes.hpp"
+#include "splat/gaussians/byte_quantization.hpp"
 #include "splat/gaussians/ply_header.hpp"
 
 namespace splat {
@@ -83,6 +85,25 @@ struct VertexLayout {
   std::vector<const ply::Property*> sources;   // sources[j] is where columns[j] comes from
 };
 
+// PLY files of other kinds that users hand a splat tool, told apart by what they hold, so the
+// message says what the file is rather than which property it lacks.
+void reject_other_layouts(const ply::Header& header, const ply::Element& vertex, const std::filesystem::path& file) {
+  const bool has_chunks = std::any_of(header.elements.begin(), header.elements.end(),
+                                      [](const ply::Element& e) { return e.name == "chunk"; });
+  if (has_chunks || vertex.find("packed_position") != nullptr)
+    throw InputError(file, "a compressed PLY (the SuperSplat / splat-transform layout), not the 3DGS PLY; convert "
+                           "it with `npx @playcanvas/splat-transform " + file.filename().string() +
+                               " model.ply` (or to .spz with --spz-version 3, or .splat: both are read)");
+  // A 3DGS file missing some of these is named by the property it lacks (below).
+  for (const char* gaussian_property : {"f_dc_0", "opacity", "scale_0", "rot_0"})
+    if (vertex.find(gaussian_property) != nullptr) return;
+  const bool has_faces = std::any_of(header.elements.begin(), header.elements.end(),
+                                     [](const ply::Element& e) { return e.name == "face"; });
+  const std::string what = has_faces ? "a mesh PLY (it has faces)" : "a point-cloud PLY";
+  throw InputError(file, what + ", not a 3DGS model: its vertices have none of the Gaussian properties (f_dc_0, opacity, "
+                                "scale_0, rot_0)");
+}
+
 VertexLayout resolve_vertex_layout(const ply::Header& header, const std::filesystem::path& file) {
   VertexLayout layout;
   const ply::Element* vertex = nullptr;
@@ -93,6 +114,7 @@ VertexLayout resolve_vertex_layout(const ply::Header& header, const std::filesys
     }
   }
   if (vertex == nullptr) throw InputError(file, "PLY file has no 'vertex' element");
+  reject_other_layouts(header, *vertex, file);
   for (const ply::Property& p : vertex->properties)
     if (p.is_list)
       throw InputError(file, "vertex property '" + p.name +
@@ -138,6 +160,16 @@ std::vector<Target> bind_targets(const VertexLayout& layout, GaussianModel& mode
     targets.push_back({layout.sources[j], array.empty() ? nullptr : array.data() + c.first, c.stride});
   }
   return targets;
+}
+
+// Whether `value` of property `p` can be kept, made finite where it stands for a definite
+// opacity: Niantic's .spz decoder (and so splat-transform's PLY output) writes the opacity
+// logit of opacity bytes 255 and 0 as ±Inf. They read as our .spz reader reads those bytes.
+bool keep_value(const ply::Property& p, float& value) {
+  if (std::isfinite(value)) return true;
+  if (!std::isinf(value) || p.name != "opacity") return false;
+  value = opacity_logit_from_byte(value > 0 ? 255 : 0);
+  return true;
 }
 
 [[noreturn]] void throw_not_finite(const std::filesystem::path& file, std::size_t vertex,
@@ -199,8 +231,9 @@ GaussianModel read_binary(std::ifstream& in, std::uint64_t file_size, const ply:
       std::memcpy(&bits, row + t.property->offset, kFloatBytes);
       if (swap) bits = __builtin_bswap32(bits);
       const float value = std::bit_cast<float>(bits);
-      if (!std::isfinite(value)) throw_not_finite(file, i, *t.property, value);
-      t.dst[i * t.stride] = value;
+      float kept = value;
+      if (!keep_value(*t.property, kept)) throw_not_finite(file, i, *t.property, value);
+      t.dst[i * t.stride] = kept;
     }
   }
   return model;
@@ -305,7 +338,7 @@ GaussianModel read_ascii(std::ifstream& in, std::uint64_t file_size, const ply::
       if (const Target* t = by_index[j]) {
         float value;
         ok = parse_number(words[j], value);
-        if (ok && !std::isfinite(value)) throw_not_finite(file, i, p, value);
+        if (ok && !keep_value(p, value)) throw_not_finite(file, i, p, value);
         if (ok) t->dst[i * t->stride] = value;
       } else {
         double ignored;
@@ -330,14 +363,7 @@ void append_little_endian(unsigned char*& out, float value) {
 }  // namespace
 
 GaussianModel read_ply(const std::filesystem::path& file) {
-  std::error_code ec;
-  const std::filesystem::file_status status = std::filesystem::status(file, ec);
-  if (status.type() == std::filesystem::file_type::not_found)
-    throw InputError(file, "file does not exist");
-  if (ec) throw InputError(file, "cannot access the file: " + ec.message());
-  if (!std::filesystem::is_regular_file(status)) throw InputError(file, "not a regular file");
-  const std::uint64_t file_size = std::filesystem::file_size(file, ec);
-  if (ec) throw InputError(file, "cannot get the file size: " + ec.message());
+  const std::uint64_t file_size = regular_file_size(file);
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file, "cannot open the file for reading");
 

@@ -32,7 +32,8 @@ std::vector<PlyColumn> official_ply_columns(int sh_degree);
 // properties may come in any order. Throws InputError naming the file on a missing file,
 // wrong magic, truncated data, a vertex count the data cannot hold, a missing required
 // property, a required property that is not float, an f_rest count that is no SH degree,
-// or a NaN/Inf value. The normals (nx ny nz) are not required. Elements before "vertex" are
+// or a NaN/Inf value (except an infinite opacity logit, which .spz decoders write for opacity
+// bytes 0 and 255: it reads as our .spz reader reads those bytes). The normals (nx ny nz) are not required. Elements before "vertex" are
 // skipped (in binary files only if all their properties are scalars), elements after it are
 // ignored; list properties in the vertex element are an error. Sizes are checked against the
 // file before anything is allocated, and the header must end within 64 KiB.
