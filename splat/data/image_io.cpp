@@ -17,6 +17,7 @@
 #include "splat/core/atomic_file.hpp"
 #include "splat/core/error.hpp"
 #include "splat/data/jpeg_reader.hpp"
+#include "splat/data/resample.hpp"
 #include "splat/data/png_reader.hpp"
 
 namespace splat {
@@ -225,6 +226,38 @@ Image read_image(const std::filesystem::path& file) {
   in->close();
   (void)in->geterror();  // nothing left pending for the destructor
   return image;
+}
+
+Image read_image_reduced(const std::filesystem::path& file, int reduction) {
+  if (reduction < 1) throw ArgumentError("image reduction must be 1 or more, not " + std::to_string(reduction));
+  if (reduction == 1) return read_image(file);
+  Image image;
+  int stored_width = 0, stored_height = 0;
+  if (format_of(file).reader == Reader::jpeg) {
+    // The largest of libjpeg's reductions that divides ours decodes the fewest pixels and
+    // leaves an area average to finish on whole blocks of the stored pixels.
+    unsigned denominator = 8;
+    while (reduction % int(denominator) != 0) denominator /= 2;
+    ReducedJpeg reduced = read_jpeg_reduced(file, denominator);
+    stored_width = reduced.stored.width;
+    stored_height = reduced.stored.height;
+    image = std::move(reduced.image);
+  } else {
+    image = read_image(file);
+    stored_width = image.width;
+    stored_height = image.height;
+  }
+  const int width = stored_width / reduction, height = stored_height / reduction;
+  if (width < 1 || height < 1)
+    throw InputError(file, "image is " + std::to_string(stored_width) + " x " + std::to_string(stored_height) +
+                               ", too small to reduce by " + std::to_string(reduction));
+  if (image.width == width && image.height == height) return image;
+  return resample_area(image, width, height);
+}
+
+ImageInfo read_image_stored_size(const std::filesystem::path& file) {
+  if (format_of(file).reader == Reader::jpeg) return read_jpeg_stored_size(file);
+  return read_image_info(file);
 }
 
 ImageInfo read_image_info(const std::filesystem::path& file) {

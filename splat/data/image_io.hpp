@@ -12,8 +12,17 @@ namespace splat {
 // themselves). Throws InputError naming the file when it cannot be read.
 Image read_image(const std::filesystem::path& file);
 
+// The image at 1/`reduction` of its size (floor of each side), averaged over areas. A JPEG is
+// decoded at 1/2, 1/4 or 1/8 by libjpeg when that divides the reduction, and only that size
+// must fit the pixel limit: a 24 MP photograph loads at a quarter. Other formats are decoded
+// whole first. InputError naming the file, also when a side would be 0; ArgumentError for a
+// reduction below 1.
+Image read_image_reduced(const std::filesystem::path& file, int reduction);
+
 // Size and channel count from the file's header, without decoding pixels.
 ImageInfo read_image_info(const std::filesystem::path& file);
+// The same, for a JPEG without the pixel limit (what read_image_reduced may still load).
+ImageInfo read_image_stored_size(const std::filesystem::path& file);
 
 // Writes a PNG (whatever the extension) with values clamped to [0, 1] (NaN becomes 0) and
 // rounded to `bits` (8 or 16) per channel, straight alpha, 1 to 4 channels, through a

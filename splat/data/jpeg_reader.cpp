@@ -61,8 +61,10 @@ class JpegDecoder {
   JpegDecoder(const JpegDecoder&) = delete;
   JpegDecoder& operator=(const JpegDecoder&) = delete;
 
-  ImageInfo read_header() {
-    if (!read_header_or_fail()) fail();
+  // The size decoded at 1/`denominator` (1, 2, 4 or 8: libjpeg's DCT scaling, each side
+  // rounded up), checked against the image limits.
+  ImageInfo read_header(unsigned denominator = 1) {
+    if (!read_header_or_fail(denominator)) fail();
     const ImageInfo header{int(info_.output_width), int(info_.output_height), info_.output_components};
     if (const std::string problem = image_size_problem(header.width, header.height); !problem.empty())
       throw InputError(file_, "image size " + std::to_string(header.width) + " x " + std::to_string(header.height) +
@@ -82,7 +84,6 @@ class JpegDecoder {
     return image;
   }
 
- private:
   // libjpeg reports an error by jumping back to the setjmp of the function that called it.
   // These functions hold no object with a destructor, so the jump skips no clean-up.
   bool create_or_fail() {
@@ -92,9 +93,15 @@ class JpegDecoder {
     return true;
   }
 
-  bool read_header_or_fail() {
+  // The size stored in the file (after read_header).
+  ImageInfo stored_size() const { return {int(info_.image_width), int(info_.image_height), info_.num_components}; }
+
+ private:
+  bool read_header_or_fail(unsigned denominator) {
     if (setjmp(errors_.jump)) return false;
     jpeg_read_header(&info_, TRUE);
+    info_.scale_num = 1;
+    info_.scale_denom = denominator;
     // Grey stays grey; everything else is asked for as RGB (libjpeg refuses CMYK to RGB).
     info_.out_color_space = info_.jpeg_color_space == JCS_GRAYSCALE ? JCS_GRAYSCALE : JCS_RGB;
     jpeg_calc_output_dimensions(&info_);
@@ -134,6 +141,20 @@ ImageInfo read_jpeg_header(const std::filesystem::path& file) {
 Image read_jpeg(const std::filesystem::path& file) {
   JpegDecoder decoder(file);
   return decoder.read_pixels(decoder.read_header());
+}
+
+ImageInfo read_jpeg_stored_size(const std::filesystem::path& file) {
+  JpegDecoder decoder(file);
+  decoder.read_header(8);  // the smallest decoded size: only a side beyond 8 × 65,536 fails
+  return decoder.stored_size();
+}
+
+ReducedJpeg read_jpeg_reduced(const std::filesystem::path& file, unsigned denominator) {
+  if (denominator != 1 && denominator != 2 && denominator != 4 && denominator != 8)
+    throw ArgumentError("JPEG reduction must be 1, 2, 4 or 8");
+  JpegDecoder decoder(file);
+  const ImageInfo decoded = decoder.read_header(denominator);
+  return {decoder.stored_size(), decoder.read_pixels(decoded)};
 }
 
 }  // namespace splat

@@ -17,4 +17,16 @@ ImageInfo read_jpeg_header(const std::filesystem::path& file);
 // padded with grey.
 Image read_jpeg(const std::filesystem::path& file);
 
+// The pixels decoded at 1/`denominator` of the stored size (1, 2, 4 or 8; libjpeg's DCT
+// scaling, each side rounded up), so that a photograph larger than the pixel limit loads
+// when its reduced size fits: only the reduced size is checked against the limits. Also the
+// stored size (unchecked; read_jpeg_stored_size reads only that). ArgumentError for another
+// denominator.
+ImageInfo read_jpeg_stored_size(const std::filesystem::path& file);
+struct ReducedJpeg {
+  ImageInfo stored;
+  Image image;
+};
+ReducedJpeg read_jpeg_reduced(const std::filesystem::path& file, unsigned denominator);
+
 }  // namespace splat
