@@ -23,6 +23,11 @@ constexpr float kMinFramedRadius = 1e-3f;
 // kRightSpreadRatio times the smallest (the cameras' roll is small against that spread).
 constexpr double kMinRightSpread = 0.01;
 constexpr double kRightSpreadRatio = 10.0;
+// Otherwise it takes the normal of the camera centres' flattest direction when their variance
+// across it is under kMaxRingFlatness times the next one, and signs it by the images' up when
+// their cosine exceeds kMinUpAgreement.
+constexpr double kMaxRingFlatness = 0.25;
+constexpr float kMinUpAgreement = 0.3f;
 
 // The first of these directions not nearly along `up`, made perpendicular to it: frame 0 of a
 // path looks from the front when world z (the Blender scenes' -y front) or world y is up.
@@ -87,25 +92,49 @@ PathFraming frame_box(const AxisAlignedBox& box, const glm::vec3& up, float aspe
   return framing;
 }
 
-glm::vec3 capture_up(std::span<const Camera> cameras, const glm::vec3& fallback) {
-  glm::vec3 mean_up(0.0f);
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();  // mean of right·rightᵀ
+glm::vec3 capture_up(std::span<const Camera> cameras, const std::optional<glm::vec3>& focus, const glm::vec3& fallback) {
+  glm::vec3 mean_up(0.0f), mean_position(0.0f);
+  Eigen::Matrix3d rights = Eigen::Matrix3d::Zero();  // mean of right·rightᵀ
   for (const Camera& camera : cameras) {
     // Rows of R are the camera's axes in world coordinates (glm is [col][row]): row 0 is its
     // right, row 1 its down.
     const glm::mat3& r = camera.camera_from_world_rotation;
     mean_up -= glm::vec3(r[0][1], r[1][1], r[2][1]);
+    mean_position += camera.center_in_world() / float(cameras.size());
     const Eigen::Vector3d right(r[0][0], r[1][0], r[2][0]);
-    scatter += right * right.transpose() / double(cameras.size());
+    rights += right * right.transpose() / double(cameras.size());
   }
   if (!(glm::length(mean_up) > 1e-6f)) return fallback;
   mean_up = glm::normalize(mean_up);
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
-  const Eigen::Vector3d spread = solver.eigenvalues();  // ascending
-  if (!(spread[1] > kMinRightSpread && spread[1] > kRightSpreadRatio * spread[0])) return mean_up;
-  const Eigen::Vector3d normal = solver.eigenvectors().col(0);
-  const glm::vec3 up = glm::normalize(glm::vec3{float(normal[0]), float(normal[1]), float(normal[2])});
-  return glm::dot(up, mean_up) < 0.0f ? -up : up;
+  const auto signed_like = [](const Eigen::Vector3d& v, const glm::vec3& reference) {
+    const glm::vec3 up = glm::normalize(glm::vec3{float(v[0]), float(v[1]), float(v[2])});
+    return glm::dot(up, reference) < 0.0f ? -up : up;
+  };
+  // 1. Level cameras: their right vectors span a plane, whose normal is up.
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> level(rights);
+  const Eigen::Vector3d right_spread = level.eigenvalues();  // ascending
+  if (right_spread[1] > kMinRightSpread && right_spread[1] > kRightSpreadRatio * right_spread[0])
+    return signed_like(level.eigenvectors().col(0), mean_up);
+  // 2. Otherwise (images stored turned by 90 degrees, as phones do, or held at any roll):
+  // cameras walked round an object lie on a ring or a cap round its vertical axis, the
+  // normal of the plane they are flattest in. Only when they look at one point: a
+  // forward-facing capture's cameras lie across their view instead.
+  if (!focus) return mean_up;
+  Eigen::Matrix3d positions = Eigen::Matrix3d::Zero();
+  for (const Camera& camera : cameras) {
+    const glm::vec3 d = camera.center_in_world() - mean_position;
+    const Eigen::Vector3d offset(d.x, d.y, d.z);
+    positions += offset * offset.transpose() / double(cameras.size());
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> ring(positions);
+  const Eigen::Vector3d ring_spread = ring.eigenvalues();
+  if (!(ring_spread[1] > 0.0 && ring_spread[0] < kMaxRingFlatness * ring_spread[1])) return mean_up;
+  const glm::vec3 normal = signed_like(ring.eigenvectors().col(0), mean_up);
+  // The sign: the images' own up when it leans clearly one way, else the side the cameras
+  // stand on (people photograph objects from above).
+  if (std::abs(glm::dot(normal, mean_up)) > kMinUpAgreement) return normal;
+  return glm::dot(normal, mean_position - *focus) < 0.0f ? -normal : normal;
+  return mean_up;
 }
 
 PathFraming frame_from_cameras(std::span<const Camera> cameras, const AxisAlignedBox& content) {
@@ -113,7 +142,7 @@ PathFraming frame_from_cameras(std::span<const Camera> cameras, const AxisAligne
   PathFraming framing;
   const std::optional<CameraRig> rig = converging_rig(cameras);
   framing.center = rig ? rig->focus : 0.5f * (content.lo + content.hi);
-  framing.up = capture_up(cameras, glm::vec3(0, 0, 1));
+  framing.up = capture_up(cameras, rig ? std::optional(rig->focus) : std::nullopt, glm::vec3(0, 0, 1));
   double distance = 0, elevation = 0;
   for (const Camera& camera : cameras) {
     const glm::vec3 offset = camera.center_in_world() - framing.center;

@@ -49,9 +49,13 @@ PathFraming frame_from_cameras(std::span<const Camera> cameras, const AxisAligne
 // The capture's up direction. People hold cameras level, so each camera's x axis (image right)
 // is horizontal: up is the direction most nearly perpendicular to all of them (the smallest
 // eigenvector of their scatter), signed to agree with the cameras' mean up (−y in OpenCV
-// axes). The mean up alone tilts towards whichever side more cameras stand on. When the
-// right vectors do not pin a direction down (all alike, as in a forward-facing capture), the
-// mean up; `fallback` when even that cancels out.
-glm::vec3 capture_up(std::span<const Camera> cameras, const glm::vec3& fallback);
+// axes). The mean up alone tilts towards whichever side more cameras stand on. When the right
+// vectors do not span a plane (images stored turned by 90 degrees, as phones do, or at mixed
+// rolls) and the cameras converge on `focus`, the normal of the plane the camera centres are
+// flattest in (a walk round the object), signed by the images' up or else towards the
+// cameras' side of the focus. Else (a capture facing one way: no focus) the mean up;
+// `fallback` when even that cancels out.
+glm::vec3 capture_up(std::span<const Camera> cameras, const std::optional<glm::vec3>& focus,
+                     const glm::vec3& fallback);
 
 }  // namespace splat

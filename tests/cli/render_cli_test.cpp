@@ -234,9 +234,9 @@ TEST(RenderCli, InterpolatePassesThroughTheCameraViews) {
   for (int k : {0, 1, 6, 12}) {
     char name[32];
     std::snprintf(name, sizeof(name), "frame_%04d.png", 2 * k);
-    EXPECT_TRUE(test::read_file(dir / "frames" / name) ==
-                test::read_file(dir / "views" / (frames[std::size_t(k)].name + ".png")))
-        << name;
+    const std::string ours = slurp(dir / "frames" / name);
+    EXPECT_FALSE(ours.empty()) << name;
+    EXPECT_TRUE(ours == slurp(dir / "views" / (frames[std::size_t(k)].name + ".png"))) << name;
   }
   // Between views the picture is neither neighbour.
   const Image between = read_image(dir / "frames" / "frame_0001.png");
@@ -271,7 +271,9 @@ TEST(RenderCli, FlyThroughANerf) {
     const Image frame = read_image(dir / "frames" / ("frame_000" + std::to_string(i) + ".png"));
     EXPECT_EQ(frame.width, 16);
   }
-  if (video) EXPECT_EQ(video_frame_count(dir / "n.webm"), 3);
+  if (video) {
+    EXPECT_EQ(video_frame_count(dir / "n.webm"), 3);
+  }
 }
 
 // Exit 2, one "error:" line holding `expected`, and nothing made in the scratch folder.
