@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "splat/core/camera_rig.hpp"
+#include "splat/core/error.hpp"
 #include "splat/data/camera_paths.hpp"
 #include "splat/data/orbit_cameras.hpp"
 #include "splat/data/path_framing.hpp"
