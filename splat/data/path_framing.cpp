@@ -23,6 +23,9 @@ constexpr float kMinFramedRadius = 1e-3f;
 // kRightSpreadRatio times the smallest (the cameras' roll is small against that spread).
 constexpr double kMinRightSpread = 0.01;
 constexpr double kRightSpreadRatio = 10.0;
+// and the images' up vectors lean towards that normal on average by more than this cosine
+// (cameras pitched less than about 70 degrees, not rolled over).
+constexpr float kMinUprightness = 0.3f;
 // Otherwise it takes the normal of the camera centres' flattest direction when their variance
 // across it is under kMaxRingFlatness times the next one, and signs it by the images' up when
 // their cosine exceeds kMinUpAgreement.
@@ -105,6 +108,7 @@ glm::vec3 capture_up(std::span<const Camera> cameras, const std::optional<glm::v
     rights += right * right.transpose() / double(cameras.size());
   }
   if (!(glm::length(mean_up) > 1e-6f)) return fallback;
+  const glm::vec3 summed_up = mean_up / float(cameras.size());  // mean of the image ups
   mean_up = glm::normalize(mean_up);
   const auto signed_like = [](const Eigen::Vector3d& v, const glm::vec3& reference) {
     const glm::vec3 up = glm::normalize(glm::vec3{float(v[0]), float(v[1]), float(v[2])});
@@ -113,8 +117,12 @@ glm::vec3 capture_up(std::span<const Camera> cameras, const std::optional<glm::v
   // 1. Level cameras: their right vectors span a plane, whose normal is up.
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> level(rights);
   const Eigen::Vector3d right_spread = level.eigenvalues();  // ascending
-  if (right_spread[1] > kMinRightSpread && right_spread[1] > kRightSpreadRatio * right_spread[0])
-    return signed_like(level.eigenvectors().col(0), mean_up);
+  if (right_spread[1] > kMinRightSpread && right_spread[1] > kRightSpreadRatio * right_spread[0]) {
+    // ... and the images are upright about it: a short arc of turned images' right vectors
+    // spans a plane too, but their up vectors then lie across its normal.
+    const glm::vec3 level_up = signed_like(level.eigenvectors().col(0), mean_up);
+    if (glm::dot(summed_up, level_up) > kMinUprightness) return level_up;
+  }
   // 2. Otherwise (images stored turned by 90 degrees, as phones do, or held at any roll):
   // cameras walked round an object lie on a ring or a cap round its vertical axis, the
   // normal of the plane they are flattest in. Only when they look at one point: a

@@ -49,7 +49,7 @@ PathFraming frame_from_cameras(std::span<const Camera> cameras, const AxisAligne
 // The capture's up direction. People hold cameras level, so each camera's x axis (image right)
 // is horizontal: up is the direction most nearly perpendicular to all of them (the smallest
 // eigenvector of their scatter), signed to agree with the cameras' mean up (−y in OpenCV
-// axes). The mean up alone tilts towards whichever side more cameras stand on. When the right
+// axes), when the images stand upright about it. The mean up alone tilts towards whichever side more cameras stand on. When the right
 // vectors do not span a plane (images stored turned by 90 degrees, as phones do, or at mixed
 // rolls) and the cameras converge on `focus`, the normal of the plane the camera centres are
 // flattest in (a walk round the object), signed by the images' up or else towards the
