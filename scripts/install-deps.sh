@@ -14,6 +14,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev
   python3                                # scenes/generate (scene assets), bench/history.py
   gnuplot-nox                            # splat-eval's charts (run as a subprocess)
+  ffmpeg                                 # splat-render --video encodes through it (ffprobe in its tests)
   libopenmpi-dev openmpi-bin             # data-parallel training over MPI ranks (mpirun)
   libimgui-dev libgl-dev                 # splat-viewer's overlay (Dear ImGui) and OpenGL 2
   xvfb xauth libgl1-mesa-dri             # the viewer's test: a virtual display, Mesa's software GL

@@ -7,6 +7,7 @@
 #include "splat/core/error.hpp"
 #include "splat/data/orbit_cameras.hpp"
 #include "splat/gaussians/ply_io.hpp"
+#include "splat/nerf/nerf_file.hpp"
 
 namespace splat::test {
 
@@ -89,6 +90,15 @@ Dataset orbit_dataset(const glm::vec3& target, float radius, float fov_x, int si
     }
   }
   return dataset;
+}
+
+void write_tiny_nerf(const std::filesystem::path& file) {
+  NerfSettings settings;
+  settings.coarse = {4, 2, 2, 16, -1, 8, DensityActivation::kSoftplus};
+  settings.fine = settings.coarse;
+  settings.coarse_samples = 16;
+  settings.fine_samples = 8;
+  write_nerf(NerfModel(settings, 5), file);
 }
 
 }  // namespace splat::test

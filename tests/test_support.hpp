@@ -40,6 +40,10 @@ ConformanceScene load_conformance(int size);
 // Writes `text` to `file` (for hand-made bad inputs).
 void write_text(const std::filesystem::path& file, const std::string& text);
 
+// A small untrained NeRF written to `file`: it still draws a definite picture (its random
+// networks' colours), quickly.
+void write_tiny_nerf(const std::filesystem::path& file);
+
 // A camera at `distance` on the -z axis looking at the origin (OpenCV axes), square image.
 // Twenty training views round `target` (two orbits of ten, at elevations 0.15 and 0.6 rad,
 // `radius` away), grey `size`² images, with the frame showing only the background

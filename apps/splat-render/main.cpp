@@ -1,7 +1,10 @@
 // splat-render --model FILE --cameras TRANSFORMS.json --out DIR [--width W --height H]
 //              [--bg R,G,B] [--bench N] [--sh-degree D] [--threads N] [--png16]
+// splat-render --model FILE --path orbit|spiral|interpolate [--frames N] [--video OUT.mp4]
+//              [--out DIR] [--cameras TRANSFORMS.json] [--fps F] ...
 #include <cstdio>
 #include <memory>
+#include <string>
 #include <tbb/global_control.h>
 
 #include "apps/common/arg_parser.hpp"
@@ -11,18 +14,40 @@
 
 namespace {
 
+// Above these a fly-through is a mistake rather than a video: an hour at 30 fps, and
+// faster than any display.
+constexpr int kMaxPathFrames = 100000;
+constexpr double kMaxFps = 240;
+
 constexpr const char* kUsage = R"(usage: splat-render --model FILE --cameras TRANSFORMS.json --out DIR
                     [--width W --height H] [--bg R,G,B] [--bench N]
                     [--sh-degree D] [--threads N] [--png16]
+       splat-render --model FILE --path orbit|spiral|interpolate [--frames N]
+                    [--video OUT.mp4] [--out DIR] [--cameras TRANSFORMS.json] [--fps F]
+                    [--width W --height H] [--bg R,G,B] [--sh-degree D] [--threads N] [--png16]
 
 Renders every frame of a Blender/NeRF-synthetic transforms JSON with the CPU Gaussian
-rasterizer and writes <out>/<frame name>.png.
+rasterizer (or a NeRF's renderer) and writes <out>/<frame name>.png; or, with --path, a
+fly-through: N frames along a camera path, as a video and/or <out>/frame_0000.png ...
 
   --model FILE        Gaussian model (.ply, .splat, .spz) or NeRF (.nerf, from splat-train
                       --method nerf)
-  --cameras FILE      transforms JSON (camera_angle_x or fl_x/fl_y/cx/cy, transform_matrix)
-  --out DIR           output folder (created if missing)
-  --width, --height   image size (default: the dataset's images, else 800x800)
+  --cameras FILE      transforms JSON (camera_angle_x or fl_x/fl_y/cx/cy, transform_matrix);
+                      with --path orbit/spiral, the circle follows these cameras (their
+                      centre, distance, height, up and field of view)
+  --out DIR           output folder (created if missing); with --path optional when
+                      --video is given (frames are written as frame_0000.png ...)
+  --width, --height   image size (default: the dataset's images, else 800x800; for a video,
+                      sizes must be even: a default one is rounded down, a given one refused)
+  --path NAME         fly-through: orbit (one turn round the model, framed from its
+                      Gaussians, opacity-weighted so floaters do not count, or a NeRF's box,
+                      world z up; or following the --cameras: their centre, distance, height,
+                      up and field of view), spiral (the orbit swinging 30 deg above and below
+                      it), interpolate (through the --cameras views in file order; needs them)
+  --frames N          frames along the path, 1..100000 (default 120)
+  --video FILE        encode the path's frames with ffmpeg (must be installed): .mp4 or .mkv
+                      (H.264), .webm (VP9); written whole or not at all
+  --fps F             the video's frame rate, up to 240 (default 30)
   --bg R,G,B          background colour in [0,1] (default 1,1,1)
   --sh-degree D       spherical-harmonic bands to use, 0..3 (default: all the model has)
   --bench N           render each frame N more times after a warm-up; print the median
@@ -31,13 +56,41 @@ rasterizer and writes <out>/<frame name>.png.
   --png16             write 16-bit PNGs (default 8-bit)
 )";
 
+// Fly-through options per the usage text: --path and what goes with it, each checked here.
+void read_path_options(const splat::cli::ArgParser& args, splat::cli::RenderCommandOptions& options) {
+  using splat::ArgumentError;
+  using splat::cli::CameraPathKind;
+  const auto path = args.value("path");
+  if (!path) {
+    for (const char* name : {"frames", "video", "fps"})
+      if (args.has(name)) throw ArgumentError(std::string("--") + name + " goes with --path (see --help)");
+    return;
+  }
+  if (*path == "orbit") options.path = CameraPathKind::kOrbit;
+  else if (*path == "spiral") options.path = CameraPathKind::kSpiral;
+  else if (*path == "interpolate") options.path = CameraPathKind::kInterpolate;
+  else throw ArgumentError("--path must be orbit, spiral or interpolate, not '" + *path + "'");
+  if (options.path == CameraPathKind::kInterpolate && !args.has("cameras"))
+    throw ArgumentError("--path interpolate goes through the views of --cameras, which is missing");
+  options.frames = args.integer("frames").value_or(options.frames);
+  if (options.frames < 1 || options.frames > kMaxPathFrames)
+    throw ArgumentError("--frames must be in 1.." + std::to_string(kMaxPathFrames));
+  options.video = args.value("video").value_or("");
+  options.fps = args.number("fps").value_or(options.fps);
+  if (!(options.fps > 0 && options.fps <= kMaxFps))
+    throw ArgumentError("--fps must be in (0, " + std::to_string(int(kMaxFps)) + "]");
+  if (options.video.empty() && !args.has("out"))
+    throw ArgumentError("--path writes a --video, PNGs into --out, or both: give at least one");
+  if (args.has("bench")) throw ArgumentError("--bench times the --cameras views; it does not go with --path");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   return splat::cli::run_main([&] {
     splat::cli::ArgParser args(argc, argv,
                                {"model", "cameras", "out", "width", "height", "bg", "bench",
-                                "sh-degree", "threads"},
+                                "sh-degree", "threads", "path", "frames", "video", "fps"},
                                {"help", "png16"});
     if (args.has("help")) {
       std::fputs(kUsage, stdout);
@@ -46,8 +99,14 @@ int main(int argc, char** argv) {
     args.expect_no_positionals();
     splat::cli::RenderCommandOptions options;
     options.model = args.required("model");
-    options.cameras = args.required("cameras");
-    options.out = args.required("out");
+    read_path_options(args, options);
+    if (options.path == splat::cli::CameraPathKind::kNone) {
+      options.cameras = args.required("cameras");
+      options.out = args.required("out");
+    } else {
+      options.cameras = args.value("cameras").value_or("");
+      options.out = args.value("out").value_or("");
+    }
     options.width = args.integer("width").value_or(0);
     options.height = args.integer("height").value_or(0);
     if (options.width < 0 || options.height < 0 || options.width > 16384 || options.height > 16384)

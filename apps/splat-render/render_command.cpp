@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include <tbb/global_control.h>
 
+#include "apps/splat-render/fly_through.hpp"
 #include "splat/core/error.hpp"
 #include "splat/data/image_io.hpp"
 #include "splat/data/transforms_json.hpp"
@@ -37,8 +37,8 @@ void print_bench_json(std::size_t frames, const Camera& camera, const std::vecto
 }
 
 // A NeRF renders ray by ray through its networks (no rasterizer, no SH degree).
-int render_nerf(const RenderCommandOptions& options, const std::vector<CameraFrame>& frames) {
-  const NerfModel model = read_nerf(options.model);
+int render_nerf(const RenderCommandOptions& options, const NerfModel& model,
+                const std::vector<CameraFrame>& frames) {
   NerfRenderer renderer;
   std::vector<double> total_ms;
   for (const CameraFrame& frame : frames) {
@@ -71,35 +71,45 @@ int render_nerf(const RenderCommandOptions& options, const std::vector<CameraFra
 
 }  // namespace
 
-int run_render_command(const RenderCommandOptions& options) {
-  if (std::filesystem::is_directory(options.model))
-    throw InputError(options.model, "is a folder, not a model file (splat-render reads " +
-                                        std::string(kGaussianModelExtensions) + " and .nerf)");
-  const std::string extension = options.model.extension().string();
-  const bool gaussians = is_gaussian_model_extension(extension);
-  if (!gaussians && extension != ".nerf")
-    throw InputError(options.model, "unsupported model format '" + extension + "' (splat-render reads " +
-                                        std::string(kGaussianModelExtensions) + " and .nerf)");
-  TransformsOptions transforms_options;
-  transforms_options.width = options.width;
-  transforms_options.height = options.height;
-  // The model first: a missing or malformed model is the likelier mistake, and is named.
-  std::optional<GaussianModel> splats;
-  if (gaussians) splats = read_gaussian_model(options.model);
-  else if (!std::filesystem::exists(options.model)) throw InputError(options.model, "file does not exist");
-  const std::vector<CameraFrame> frames = load_transforms(options.cameras, transforms_options);
+RenderModel load_model(const std::filesystem::path& file) {
+  const std::string formats = std::string(kGaussianModelExtensions) + " and .nerf";
+  if (std::filesystem::is_directory(file))
+    throw InputError(file, "is a folder, not a model file (splat-render reads " + formats + ")");
+  const std::string extension = file.extension().string();
+  if (is_gaussian_model_extension(extension)) return read_gaussian_model(file);
+  if (extension != ".nerf") throw InputError(file, "unsupported model format '" + extension + "' (splat-render reads " + formats + ")");
+  if (!std::filesystem::exists(file)) throw InputError(file, "file does not exist");
+  return read_nerf(file);
+}
 
+void create_output_folder(const std::filesystem::path& folder) {
   std::error_code ec;
-  std::filesystem::create_directories(options.out, ec);
-  if (ec || !std::filesystem::is_directory(options.out))
-    throw InputError(options.out, "cannot create the output folder");
-  if (!splats) return render_nerf(options, frames);
-  const GaussianModel& model = *splats;
+  std::filesystem::create_directories(folder, ec);
+  if (ec || !std::filesystem::is_directory(folder)) throw InputError(folder, "cannot create the output folder");
+}
 
+RenderSettings render_settings(const RenderCommandOptions& options) {
   RenderSettings settings;
   settings.sh_degree = options.sh_degree;
   settings.for_backward = false;
   std::copy(options.background, options.background + 3, settings.background);
+  return settings;
+}
+
+int run_render_command(const RenderCommandOptions& options) {
+  if (options.path != CameraPathKind::kNone) return run_fly_through(options);
+  // The model first: a missing or malformed model is the likelier mistake, and is named.
+  const RenderModel loaded = load_model(options.model);
+  TransformsOptions transforms_options;
+  transforms_options.width = options.width;
+  transforms_options.height = options.height;
+  const std::vector<CameraFrame> frames = load_transforms(options.cameras, transforms_options);
+
+  create_output_folder(options.out);
+  if (const NerfModel* nerf = std::get_if<NerfModel>(&loaded)) return render_nerf(options, *nerf, frames);
+  const GaussianModel& model = std::get<GaussianModel>(loaded);
+
+  const RenderSettings settings = render_settings(options);
   Rasterizer rasterizer;
   RenderResult result;
   std::vector<double> total_ms, project_ms, bin_sort_ms, blend_ms;

@@ -272,6 +272,8 @@ ImageInfo read_image_info(const std::filesystem::path& file) {
   return info;
 }
 
+std::vector<std::uint8_t> image_codes_8bit(const Image& image) { return quantise<std::uint8_t>(image); }
+
 void write_png(const Image& image, const std::filesystem::path& file, int bits) {
   check_image_shape(image, file);
   if (bits != 8 && bits != 16)

@@ -1,6 +1,8 @@
 #pragma once
 // Image files: PNG and JPEG through libpng and libjpeg, the other formats through OpenImageIO.
+#include <cstdint>
 #include <filesystem>
+#include <vector>
 
 #include "splat/core/image.hpp"
 
@@ -29,6 +31,10 @@ ImageInfo read_image_stored_size(const std::filesystem::path& file);
 // temporary file renamed into place. Throws InputError naming the file when writing fails,
 // ArgumentError for an image or bit depth PNG cannot hold.
 void write_png(const Image& image, const std::filesystem::path& file, int bits = 8);
+
+// The 8-bit codes write_png stores for `image` (clamped, NaN as 0, rounded), interleaved as
+// the image is: for writers of other formats (splat-render's video frames).
+std::vector<std::uint8_t> image_codes_8bit(const Image& image);
 
 // Writes float data without clamping, through a temporary file; the format follows the
 // extension (e.g. .exr, .tif). Throws InputError naming the file when writing fails or the

@@ -1,5 +1,6 @@
 // splat-render end to end: the command-line contract, the conformance renders through the
-// CLI, the bench JSON, and bad input (clear error, exit 2, nothing half-written).
+// CLI, the bench JSON, fly-throughs (--path: videos, PNG frames, NeRFs), and bad input (clear
+// error, exit 2, nothing half-written).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include <sys/wait.h>
 
 #include "splat/data/image_io.hpp"
+#include "splat/data/transforms_json.hpp"
 #include "tests/test_support.hpp"
 
 namespace splat {
@@ -26,9 +28,11 @@ std::string slurp(const std::filesystem::path& file) {
   return ss.str();
 }
 
-CommandResult run_render(const std::string& args, const std::filesystem::path& dir) {
+// `environment` ("NAME=value ...") goes before the command, for the shell to set.
+CommandResult run_render(const std::string& args, const std::filesystem::path& dir,
+                         const std::string& environment = "") {
   const auto out_file = dir / "stdout.txt", err_file = dir / "stderr.txt";
-  const std::string cmd = std::string(SPLAT_RENDER_EXE) + " " + args + " > " +
+  const std::string cmd = environment + " " + std::string(SPLAT_RENDER_EXE) + " " + args + " > " +
                           out_file.string() + " 2> " + err_file.string();
   const int status = std::system(cmd.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out_file), slurp(err_file)};
@@ -103,6 +107,227 @@ TEST(RenderCli, BadInputsFailCleanly) {
   expect_clean_failure(model + cams + " --bench x", "--bench", "cli_bad_bench");
   expect_clean_failure(" --model " + (dir / "model.nerf").string() + cams, "model.nerf", "cli_unknown_format");
   expect_clean_failure(cams, "--model", "cli_no_model");
+}
+
+}  // namespace
+}  // namespace splat
+
+// ---- Fly-throughs (--path) ----
+
+namespace splat {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool have_tool(const std::string& name) {
+  return std::system(("command -v " + name + " > /dev/null 2>&1").c_str()) == 0;
+}
+
+#define SPLAT_SKIP_WITHOUT_FFMPEG()                                                              \
+  if (!have_tool("ffmpeg") || !have_tool("ffprobe"))                                             \
+  GTEST_SKIP() << "ffmpeg/ffprobe are not installed (scripts/install-deps.sh installs them)"
+
+// The frames ffprobe decodes from the video's first stream, or -1 when it cannot read it.
+int video_frame_count(const fs::path& video) {
+  const std::string cmd = "ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames "
+                          "-of csv=p=0 " + video.string();
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return -1;
+  char line[64] = {};
+  const bool read = std::fgets(line, sizeof(line), pipe) != nullptr;
+  const int status = pclose(pipe);
+  return read && status == 0 ? std::atoi(line) : -1;
+}
+
+// Names in `dir` that the test did not put there (the captured output, a fake tool folder).
+std::vector<std::string> made_in(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name != "stdout.txt" && name != "stderr.txt" && name != "bin") names.push_back(name);
+  }
+  return names;
+}
+
+std::string lego() { return " --model " + conformance("lego_subset50k.ply"); }
+
+// The share of `image`'s pixels that are not the white background, and their centroid in
+// units of the image's size.
+struct Coverage {
+  double share = 0;
+  double x = 0, y = 0;
+};
+Coverage coverage(const Image& image) {
+  Coverage c;
+  std::size_t count = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      bool content = false;
+      for (int k = 0; k < 3; ++k) content |= image.at(x, y, k) < 0.9f;
+      if (!content) continue;
+      ++count;
+      c.x += (x + 0.5) / image.width;
+      c.y += (y + 0.5) / image.height;
+    }
+  if (count == 0) return c;
+  c.share = double(count) / double(image.pixel_count());
+  c.x /= double(count);
+  c.y /= double(count);
+  return c;
+}
+
+// The model fills a good part of `image` (neither a speck nor cropped to a close-up), near its
+// middle.
+void expect_framed(const Image& image, const std::string& label) {
+  const Coverage c = coverage(image);
+  EXPECT_GT(c.share, 0.10) << label;
+  EXPECT_LT(c.share, 0.80) << label;
+  EXPECT_NEAR(c.x, 0.5, 0.15) << label;
+  EXPECT_NEAR(c.y, 0.5, 0.15) << label;
+}
+
+TEST(RenderCli, OrbitVideoHoldsEveryFrame) {
+  SPLAT_SKIP_WITHOUT_FFMPEG();
+  const auto dir = test::scratch_dir("render_cli_orbit_video");
+  const fs::path video = dir / "videos" / "o.mp4";  // the folder is created
+  const CommandResult r =
+      run_render(lego() + " --path orbit --frames 12 --width 64 --height 64 --video " + video.string(), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(video_frame_count(video), 12);
+  EXPECT_NE(r.out.find("frame 12/12"), std::string::npos) << r.out;
+  // Only the video: no temporary left beside it, and no PNGs without --out.
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir / "videos")) names.push_back(e.path().filename().string());
+  EXPECT_EQ(names, std::vector<std::string>{"o.mp4"});
+}
+
+TEST(RenderCli, OrbitAndSpiralFramesShowTheModelCentredAndMoving) {
+  for (const char* path : {"orbit", "spiral"}) {
+    const auto dir = test::scratch_dir(std::string("render_cli_frames_") + path);
+    const CommandResult r = run_render(lego() + " --path " + path + " --frames 4 --width 96 --height 64 --out " +
+                                           (dir / "frames").string(),
+                                       dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::vector<Image> frames;
+    for (int i = 0; i < 4; ++i) {
+      frames.push_back(read_image(dir / "frames" / ("frame_000" + std::to_string(i) + ".png")));
+      ASSERT_EQ(frames.back().width, 96);
+      ASSERT_EQ(frames.back().height, 64);
+      expect_framed(frames.back(), std::string(path) + " frame " + std::to_string(i));  // from the Gaussians
+    }
+    EXPECT_LT(psnr(frames[0], frames[2]), 25.0) << path << ": the camera moves";
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir / "frames"), fs::directory_iterator()), 4);
+  }
+}
+
+TEST(RenderCli, InterpolatePassesThroughTheCameraViews) {
+  const auto dir = test::scratch_dir("render_cli_interpolate");
+  const std::string cams = " --cameras " + conformance("transforms_test.json");
+  // 13 views, 25 frames: view k is frame 2k, rendered exactly as splat-render renders the view.
+  const CommandResult path = run_render(lego() + cams + " --path interpolate --frames 25 --width 80 --height 80 --out " +
+                                            (dir / "frames").string(),
+                                        dir);
+  ASSERT_EQ(path.exit_code, 0) << path.err;
+  const CommandResult views = run_render(lego() + cams + " --width 80 --height 80 --out " + (dir / "views").string(), dir);
+  ASSERT_EQ(views.exit_code, 0) << views.err;
+  const std::vector<CameraFrame> frames = load_transforms(conformance("transforms_test.json"));
+  for (int k : {0, 1, 6, 12}) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "frame_%04d.png", 2 * k);
+    const std::string ours = slurp(dir / "frames" / name);
+    EXPECT_FALSE(ours.empty()) << name;
+    EXPECT_TRUE(ours == slurp(dir / "views" / (frames[std::size_t(k)].name + ".png"))) << name;
+  }
+  // Between views the picture is neither neighbour.
+  const Image between = read_image(dir / "frames" / "frame_0001.png");
+  EXPECT_LT(psnr(between, read_image(dir / "views" / (frames[0].name + ".png"))), 40.0);
+  EXPECT_LT(psnr(between, read_image(dir / "views" / (frames[1].name + ".png"))), 40.0);
+}
+
+TEST(RenderCli, OrbitFollowsTheCapturesCameras) {
+  // The conformance views look at the lego from about 4 units away: an orbit at their centre,
+  // distance, height, up and field of view frames it.
+  const auto dir = test::scratch_dir("render_cli_orbit_cameras");
+  const std::string cams = " --cameras " + conformance("transforms_test.json");
+  const CommandResult r = run_render(lego() + cams + " --path orbit --frames 8 --width 80 --height 80 --out " +
+                                         (dir / "frames").string(),
+                                     dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find(", 1), 4.03 away, 38 deg above, 40 deg field of view"), std::string::npos) << r.out;
+  for (const char* frame : {"frame_0000.png", "frame_0003.png"}) expect_framed(read_image(dir / "frames" / frame), frame);
+}
+
+TEST(RenderCli, FlyThroughANerf) {
+  const auto dir = test::scratch_dir("render_cli_nerf_path");
+  const fs::path nerf = dir / "tiny.nerf";
+  test::write_tiny_nerf(nerf);
+  const bool video = have_tool("ffmpeg") && have_tool("ffprobe");
+  const std::string video_args = video ? " --video " + (dir / "n.webm").string() : "";
+  const CommandResult r = run_render("--model " + nerf.string() + " --path spiral --frames 3 --width 16 --height 16" +
+                                         video_args + " --out " + (dir / "frames").string(),
+                                     dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (int i = 0; i < 3; ++i) {
+    const Image frame = read_image(dir / "frames" / ("frame_000" + std::to_string(i) + ".png"));
+    EXPECT_EQ(frame.width, 16);
+  }
+  if (video) {
+    EXPECT_EQ(video_frame_count(dir / "n.webm"), 3);
+  }
+}
+
+// Exit 2, one "error:" line holding `expected`, and nothing made in the scratch folder.
+void expect_clean_path_failure(const std::string& args, const std::string& expected, const fs::path& dir,
+                               const std::string& environment = "") {
+  const CommandResult r = run_render(args, dir, environment);
+  EXPECT_EQ(r.exit_code, 2) << args;
+  EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find(expected), std::string::npos) << args << " -> " << r.err;
+  for (const std::string& name : made_in(dir)) ADD_FAILURE() << args << " left " << name;
+}
+
+TEST(RenderCli, FlyThroughBadArgumentsFailCleanly) {
+  const auto dir = test::scratch_dir("render_cli_path_args");
+  const std::string d = dir.string();
+  const std::string out = " --out " + d + "/frames", video = " --video " + d + "/v/o.mp4";
+  const std::string cams = " --cameras " + conformance("transforms_test.json");
+  expect_clean_path_failure(lego() + " --path zigzag" + out, "orbit, spiral or interpolate", dir);
+  expect_clean_path_failure(lego() + " --path orbit --frames 0" + out, "--frames", dir);
+  expect_clean_path_failure(lego() + " --path orbit --frames 1000000" + out, "--frames", dir);
+  expect_clean_path_failure(lego() + " --path orbit --frames x" + out, "--frames", dir);
+  expect_clean_path_failure(lego() + " --path interpolate" + out, "--cameras", dir);
+  expect_clean_path_failure(lego() + " --path orbit", "--video", dir);
+  expect_clean_path_failure(lego() + " --path orbit --video " + d + "/v/o.avi", "o.avi: cannot write a '.avi' video", dir);
+  expect_clean_path_failure(lego() + " --path orbit --width 63 --height 64" + video, "even", dir);
+  expect_clean_path_failure(lego() + " --path orbit --fps 0" + video, "--fps", dir);
+  expect_clean_path_failure(lego() + " --path orbit --bench 2" + out, "--bench", dir);
+  expect_clean_path_failure(lego() + cams + " --frames 5" + out, "--frames goes with --path", dir);
+  // Bad inputs are found before anything is made.
+  expect_clean_path_failure(" --model " + d + "/none.ply --path orbit" + out + video, d + "/none.ply", dir);
+  expect_clean_path_failure(lego() + " --cameras " + d + "/none.json --path orbit" + out + video, d + "/none.json", dir);
+}
+
+TEST(RenderCli, FlyThroughWithoutOrWithAFailingFfmpegLeavesNothing) {
+  const auto dir = test::scratch_dir("render_cli_path_ffmpeg");
+  const std::string d = dir.string();
+  const std::string args = lego() + " --path orbit --frames 3 --width 32 --height 32 --video " + d + "/v/o.mp4";
+  // No ffmpeg on the PATH: one line saying how to install it, before the model is read.
+  fs::create_directories(dir / "bin");
+  expect_clean_path_failure(args + " --out " + d + "/frames", "apt-get install ffmpeg", dir,
+                            "PATH=" + (dir / "bin").string());
+  // An ffmpeg that fails at once (the frames meet a closed pipe) or after reading them all:
+  // its message comes through, and neither the video nor its temporary remains.
+  for (const char* body : {"", "cat > /dev/null; "}) {
+    test::write_text(dir / "bin" / "ffmpeg",
+                     std::string("#!/bin/sh\n") + body + "echo 'x264: out of cheese' >&2\nexit 3\n");
+    fs::permissions(dir / "bin" / "ffmpeg", fs::perms::owner_all);
+    const CommandResult r = run_render(args, dir, "PATH=" + (dir / "bin").string() + ":/usr/bin:/bin");
+    EXPECT_EQ(r.exit_code, 2) << body;
+    EXPECT_NE(r.err.find(d + "/v/o.mp4: ffmpeg failed (exit status 3): x264: out of cheese"), std::string::npos)
+        << body << " -> " << r.err;
+    EXPECT_TRUE(fs::is_empty(dir / "v")) << body;
+  }
 }
 
 }  // namespace

@@ -8,7 +8,6 @@
 #include "tests/cli_support.hpp"
 #include "splat/data/image_io.hpp"
 #include "splat/eval/metrics.hpp"
-#include "splat/nerf/nerf_file.hpp"
 #include "tests/test_support.hpp"
 
 namespace splat {
@@ -69,14 +68,8 @@ TEST(ViewerCli, ScreenshotOfAViewMatchesSplatRender) {
 
 TEST(ViewerCli, TwoModelsSideBySideWithANerfRefinedToFullResolution) {
   const fs::path dir = test::scratch_dir("viewer_cli_two");
-  // A small untrained NeRF still draws a definite picture (its random networks' colours).
-  NerfSettings settings;
-  settings.coarse = {4, 2, 2, 16, -1, 8, DensityActivation::kSoftplus};
-  settings.fine = settings.coarse;
-  settings.coarse_samples = 16;
-  settings.fine_samples = 8;
   const fs::path nerf = dir / "tiny.nerf";
-  write_nerf(NerfModel(settings, 5), nerf);
+  test::write_tiny_nerf(nerf);
   const fs::path shot = dir / "two.png";
   const auto r = test::run_command(
       under_xvfb(std::string(SPLAT_VIEWER_EXE) + " " + conformance("lego_subset50k.ply") + " " + nerf.string() +
