@@ -15,6 +15,7 @@ PACKAGES=(
   python3                                # scenes/generate (scene assets), bench/history.py
   gnuplot-nox                            # splat-eval's charts (run as a subprocess)
   ffmpeg                                 # splat-render --video encodes through it (ffprobe in its tests)
+  colmap                                 # splat-process: structure from motion (its command-line tools)
   libopenmpi-dev openmpi-bin             # data-parallel training over MPI ranks (mpirun)
   libimgui-dev libgl-dev                 # splat-viewer's overlay (Dear ImGui) and OpenGL 2
   xvfb xauth libgl1-mesa-dri             # the viewer's test: a virtual display, Mesa's software GL

@@ -7,7 +7,6 @@
 
 #include <cstdlib>
 #include <cstring>
-#include <deque>
 #include <fstream>
 #include <sstream>
 
@@ -51,18 +50,13 @@ int run_program(const std::vector<std::string>& arguments, const std::filesystem
   return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
-std::string tail_of_file(const std::filesystem::path& file, int lines) {
+std::string last_line_of_file(const std::filesystem::path& file) {
   std::ifstream in(file);
-  std::deque<std::string> last;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    last.push_back(line);
-    if (int(last.size()) > lines) last.pop_front();
-  }
-  std::string text;
-  for (const std::string& l : last) text += "  " + l + "\n";
-  return text;
+  std::string line, last;
+  while (std::getline(in, line))
+    if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
+  const std::size_t first = last.find_first_not_of(" \t"), end = last.find_last_not_of(" \t\r");
+  return first == std::string::npos ? std::string() : last.substr(first, end - first + 1);
 }
 
 }  // namespace splat::cli

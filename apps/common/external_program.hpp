@@ -15,7 +15,8 @@ bool program_on_path(const std::string& name);
 // be started.
 int run_program(const std::vector<std::string>& arguments, const std::filesystem::path& log);
 
-// The last `lines` lines of `file` (empty when it cannot be read), for an error message.
-std::string tail_of_file(const std::filesystem::path& file, int lines);
+// The last non-empty line of `file`, trimmed (empty when it cannot be read), for a one-line
+// error message.
+std::string last_line_of_file(const std::filesystem::path& file);
 
 }  // namespace splat::cli

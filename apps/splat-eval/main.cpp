@@ -73,7 +73,9 @@ can share one folder and one report. --report (with --out only) just redraws the
   --eval-every-seconds T      score the test views every T seconds of training (default S/10)
   --threads N                 worker threads for every method (default: all cores)
   --bg white|black            background the RGBA images are composited onto (default white)
-  --downscale K               train and evaluate at 1/K of the image size (default 1)
+  --downscale K               train and evaluate at 1/K of the image size (default: 1, or
+                              the smallest K that brings images wider than 1,600 pixels to
+                              1,600 at most, as the official trainer does)
   --splat-config FILE         JSON settings for both splat methods (as splat-train --config),
                               applied over each one's strategy preset; a "strategy" key in it
                               is ignored (with a warning): the method names the strategy
@@ -139,6 +141,7 @@ int main(int argc, char** argv) {
     }
     if (auto n = args.positive_integer("threads")) options.threads = *n;
     if (auto k = args.positive_integer("downscale")) options.dataset.downscale = *k;
+    else options.dataset.max_width = splat::kDefaultMaxImageWidth;
     const std::string bg = args.value("bg").value_or("white");
     if (bg != "white" && bg != "black") throw splat::ArgumentError("--bg must be white or black");
     for (float& c : options.dataset.background) c = bg == "white" ? 1.0f : 0.0f;  // and the trainers'

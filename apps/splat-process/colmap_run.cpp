@@ -15,8 +15,8 @@ void run_stage(std::vector<std::string> arguments, const ColmapRunOptions& optio
   const fs::path log = options.work_dir / "colmap.log";
   const int status = cli::run_program(arguments, log);
   if (status != 0)
-    throw ArgumentError("COLMAP's " + what + " failed (exit status " + std::to_string(status) + "); the end of " +
-                        log.string() + ":\n" + cli::tail_of_file(log, 8));
+    throw ArgumentError("COLMAP's " + what + " failed (exit status " + std::to_string(status) +
+                        "); its last words: " + cli::last_line_of_file(log));
 }
 
 std::vector<std::string> registered_images(const fs::path& sparse_dir) {
@@ -65,8 +65,7 @@ Reconstruction run_colmap(const ColmapRunOptions& options, const std::function<v
   largest.models = int(models.size());
   if (largest.registered.empty())
     throw ArgumentError("COLMAP's mapper made no model: the photos share too few features (more overlap between "
-                        "neighbouring photos, sharper photos or more texture help); see " +
-                        (options.work_dir / "colmap.log").string());
+                        "neighbouring photos, sharper photos or more texture help)");
   return largest;
 }
 

@@ -114,6 +114,9 @@ int main(int argc, char** argv) {
     std::vector<fs::path> photos;
     if (images) {
       photos = splat::process::list_images(*images);
+      if (photos.size() < std::size_t(kMinimumRegistered))
+        throw splat::InputError(*images, std::to_string(photos.size()) + " image" + (photos.size() == 1 ? "" : "s") +
+                                             "; structure from motion needs 3 or more (50-150 for an object)");
     } else {
       std::error_code ec;
       if (!fs::is_regular_file(*video, ec)) throw splat::InputError(*video, "no such video file");
@@ -167,7 +170,7 @@ int main(int argc, char** argv) {
       int step = 0;
       const splat::process::Reconstruction model = splat::process::run_colmap(colmap, [&](const std::string& stage) {
         if (step > 0) std::printf("  %.0f s\n", lap(clock));
-        std::printf("COLMAP %d/3: %s (log: %s)\n", ++step, stage.c_str(), (out / "colmap" / "colmap.log").c_str());
+        std::printf("COLMAP %d/3: %s (log: %s)\n", ++step, stage.c_str(), (colmap.work_dir / "colmap.log").c_str());
         std::fflush(stdout);
       });
       std::printf("  %.0f s\n", lap(clock));

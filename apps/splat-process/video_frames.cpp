@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -21,10 +20,7 @@ double video_duration_seconds(const VideoFrameOptions& options) {
   const int status = cli::run_program({"ffprobe", "-v", "error", "-show_entries", "format=duration", "-of",
                                        "default=noprint_wrappers=1:nokey=1", options.video.string()},
                                       log);
-  std::ifstream in(log);
-  std::string line, last;
-  while (std::getline(in, line))
-    if (!line.empty()) last = line;
+  const std::string last = cli::last_line_of_file(log);
   double seconds = 0;
   if (status != 0 || std::sscanf(last.c_str(), "%lf", &seconds) != 1 || !(seconds > 0))
     throw InputError(options.video, "ffprobe cannot read a duration from the video: " + last);
@@ -69,7 +65,7 @@ int extract_sharp_frames(const VideoFrameOptions& options) {
   const int status = cli::run_program({"ffmpeg", "-nostdin", "-v", "error", "-i", options.video.string(), "-vf", filter,
                                        "-frames:v", std::to_string(wanted), (candidates_dir / "c_%05d.png").string()},
                                       log);
-  if (status != 0) throw InputError(options.video, "ffmpeg cannot read the video:\n" + cli::tail_of_file(log, 6));
+  if (status != 0) throw InputError(options.video, "ffmpeg cannot read the video: " + cli::last_line_of_file(log));
   std::vector<fs::path> candidates;
   for (const fs::directory_entry& entry : fs::directory_iterator(candidates_dir)) candidates.push_back(entry.path());
   std::sort(candidates.begin(), candidates.end());

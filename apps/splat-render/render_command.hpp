@@ -33,7 +33,8 @@ struct RenderCommandOptions {
 // A model splat-render draws: Gaussians or a NeRF.
 using RenderModel = std::variant<GaussianModel, NerfModel>;
 
-// The one place splat-render reads a model: the format from the extension (.ply, .nerf);
+// The one place splat-render reads a model: the format from the extension (.ply, .splat,
+// .spz, .nerf);
 // InputError naming the file for a folder, another extension, or a file its reader refuses.
 RenderModel load_model(const std::filesystem::path& file);
 

@@ -37,7 +37,9 @@ on as transforms files (DIR/cameras_train.json, DIR/cameras_test.json) that spla
   --bg white|black      background the RGBA images are composited onto (default white)
   --seed N              random seed (default 0); results do not depend on --threads
   --threads N           worker threads (default: all cores)
-  --downscale K         train and evaluate at 1/K of the image size (default 1)
+  --downscale K         train and evaluate at 1/K of the image size (default: 1, or the
+                        smallest K that brings images wider than 1,600 pixels to 1,600 at
+                        most, as the official trainer does; printed)
   --train-views N       train on N of the training views, spread evenly through them, the
                         test views unchanged (a sparser capture of the same scene; default all)
   --holdout-every K     COLMAP data: every K-th image in name order is a test view (default
@@ -145,6 +147,7 @@ int train_main(int argc, char** argv, splat::ProcessGroup* ranks) {
   }
   if (auto n = args.positive_integer("threads")) options.threads = *n;
   if (auto k = args.positive_integer("downscale")) options.dataset.downscale = *k;
+  else options.dataset.max_width = splat::kDefaultMaxImageWidth;
   if (auto n = args.positive_integer("train-views")) options.dataset.train_views = *n;
   if (auto k = args.integer("holdout-every")) {
     if (*k < 0) throw splat::ArgumentError("--holdout-every must be >= 0 (0: every view trains)");

@@ -357,6 +357,11 @@ int run_train_command(const TrainCommandOptions& options) {
                 dataset.points ? (std::to_string(dataset.points->size()) + " points").c_str()
                                : "no point cloud",
                 dataset.scene_extent);
+  if (!options.quiet && dataset.downscale != options.dataset.downscale &&
+      (options.group == nullptr || options.group->rank() == 0))
+    std::printf("images wider than %d pixels: training at 1/%d of their size (--downscale %d; give --downscale 1 "
+                "to keep them)\n",
+                options.dataset.max_width, dataset.downscale, dataset.downscale);
   TrainingRun run(options, dataset);
   return run.run();
 }

@@ -13,13 +13,28 @@ namespace splat {
 constexpr int kMaxImageSide = 1 << 16;
 constexpr std::size_t kMaxImagePixels = std::size_t(1) << 24;  // 4,096 × 4,096
 
-// "" when width x height is a size we read or write, else what is wrong with it.
-inline std::string image_size_problem(long long width, long long height) {
+// "" when width x height has sides of 1..kMaxImageSide and at most `max_pixels` pixels, else
+// what is wrong with it (`what` names the thing: "an image").
+inline std::string size_problem(long long width, long long height, std::size_t max_pixels, const char* what) {
   if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide)
     return "each side must be from 1 to " + std::to_string(kMaxImageSide) + " pixels";
-  if (std::size_t(width) * std::size_t(height) > kMaxImagePixels)
-    return "more than the " + std::to_string(kMaxImagePixels) + " pixels an image may have";
+  if (std::size_t(width) * std::size_t(height) > max_pixels)
+    return "more than the " + std::to_string(max_pixels) + " pixels " + what + " may have";
   return "";
+}
+
+// "" when width x height is a size we read or write, else what is wrong with it.
+inline std::string image_size_problem(long long width, long long height) {
+  return size_problem(width, height, kMaxImagePixels, "an image");
+}
+
+// A camera may describe a photograph larger than the pixel limit (phones take 50 MP): its
+// images then load reduced with a downscale (splat/data/image_io.hpp read_image_reduced).
+constexpr std::size_t kMaxCameraPixels = std::size_t(1) << 28;
+
+// "" when a camera of width x height is one we accept, else what is wrong with it.
+inline std::string camera_size_problem(long long width, long long height) {
+  return size_problem(width, height, kMaxCameraPixels, "a camera");
 }
 
 // An image file's size and channel count, read from its header.

@@ -84,7 +84,7 @@ ColmapCameraModel supported_model(const fs::path& file, const std::string& where
 }
 
 void check_camera(const fs::path& file, const std::string& where, const ColmapCamera& camera) {
-  if (const std::string problem = image_size_problem(camera.width, camera.height); !problem.empty())
+  if (const std::string problem = camera_size_problem(camera.width, camera.height); !problem.empty())
     throw InputError(file, where + ": image size " + std::to_string(camera.width) + " x " +
                                std::to_string(camera.height) + ": " + problem);
   for (double p : camera.params)

@@ -48,14 +48,47 @@ void check_dataset_fits_in_memory(const fs::path& source, const std::vector<Imag
                                std::to_string(fits) + ": " + gigabytes(dataset_bytes(sizes, fits)) + ")");
 }
 
-Image read_rgb(const fs::path& file, int width, int height, const std::string& size_source,
+int chosen_downscale(const std::vector<ImageSize>& sizes, const DatasetOptions& options) {
+  if (options.max_width <= 0 || options.downscale != 1) return options.downscale;
+  int widest = 0;
+  for (const ImageSize& size : sizes) widest = std::max(widest, size.width);
+  return std::max(1, (widest + options.max_width - 1) / options.max_width);
+}
+
+int read_reduction(int width, int height, int downscale) {
+  return std::size_t(width) * std::size_t(height) > kMaxImagePixels && downscale > 1 ? downscale : 1;
+}
+
+Camera reduced_camera(const Camera& camera, int reduction) {
+  if (reduction == 1) return camera;
+  return camera.resized(camera.width / reduction, camera.height / reduction);
+}
+
+Image read_rgb(const fs::path& file, int width, int height, int reduction, const std::string& size_source,
                const float background[3]) {
   std::error_code ec;
   if (!fs::exists(file, ec)) throw InputError(file, "image file does not exist");
-  Image image = read_image(file);
-  if (image.width != width || image.height != height)
-    throw InputError(file, "image is " + std::to_string(image.width) + " x " +
-                               std::to_string(image.height) + " but " + size_source +
+  Image image;
+  int stored_width = 0, stored_height = 0;
+  if (reduction == 1) {
+    if (std::size_t(width) * std::size_t(height) > kMaxImagePixels) {
+      const ImageInfo stored = read_image_stored_size(file);
+      if (stored.width == width && stored.height == height)
+        throw InputError(file, "image is " + std::to_string(width) + " x " + std::to_string(height) +
+                                   ", beyond the " + std::to_string(kMaxImagePixels) +
+                                   "-pixel limit: train it with --downscale 2 or more (it is then read at that "
+                                   "size)");
+    }
+    image = read_image(file);
+    stored_width = image.width, stored_height = image.height;
+  } else {
+    const ImageInfo stored = read_image_stored_size(file);
+    stored_width = stored.width, stored_height = stored.height;
+    if (stored_width == width && stored_height == height) image = read_image_reduced(file, reduction);
+  }
+  if (stored_width != width || stored_height != height)
+    throw InputError(file, "image is " + std::to_string(stored_width) + " x " +
+                               std::to_string(stored_height) + " but " + size_source +
                                " gives its camera " + std::to_string(width) + " x " +
                                std::to_string(height));
   if (image.channels == 3) return image;

@@ -29,9 +29,17 @@ struct PointCloud {
   std::size_t size() const { return positions.size() / 3; }
 };
 
+// Images wider than this train at a downscale by default (splat-train, splat-eval), as the
+// official trainer rescales them: its time per iteration grows with the pixels.
+constexpr int kDefaultMaxImageWidth = 1600;
+
 struct DatasetOptions {
   float background[3] = {1, 1, 1};  // RGBA images are composited onto this
   int downscale = 1;                // images resampled to 1/downscale (area filter), intrinsics scaled
+  // > 0 with downscale 1: the loader picks the smallest downscale K at which every image is at
+  // most this wide (Dataset::downscale says which), as the official trainer rescales images
+  // wider than 1,600 pixels; 0: none.
+  int max_width = 0;
   // Train on this many of the training views (keep_training_views), 0 = all; the test views
   // stay as they are: a sparser capture of the same scene, scored on the same views.
   int train_views = 0;
@@ -48,6 +56,7 @@ struct Dataset {
   // distance of a training camera centre from their mean. Scales position learning rates and
   // the densification thresholds.
   float scene_extent = 1.0f;
+  int downscale = 1;  // the factor the images were loaded at (DatasetOptions::downscale or picked)
 };
 
 // Loads `folder`: a Blender folder (transforms_train.json, and transforms_test.json or

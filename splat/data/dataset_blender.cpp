@@ -37,9 +37,11 @@ Dataset load_blender(const fs::path& folder, const DatasetOptions& options) {
   std::vector<ImageSize> sizes;
   for (const auto* frames : {&train_frames, &test_frames})
     for (const CameraFrame& frame : *frames) sizes.push_back({frame.camera.width, frame.camera.height});
-  check_dataset_fits_in_memory(folder, sizes, options.downscale);
+  const int downscale = chosen_downscale(sizes, options);
+  check_dataset_fits_in_memory(folder, sizes, downscale);
 
   Dataset dataset;
+  dataset.downscale = downscale;
   dataset.train.resize(train_frames.size());
   dataset.test.resize(test_frames.size());
   std::vector<Job> jobs;
@@ -53,10 +55,11 @@ Dataset load_blender(const fs::path& folder, const DatasetOptions& options) {
     const CameraFrame& frame = *jobs[i].frame;
     DatasetView& view = *jobs[i].out;
     view.name = frame.name;
-    view.camera = frame.camera;
-    view.image = read_rgb(frame.image_path, frame.camera.width, frame.camera.height,
+    const int reduction = read_reduction(frame.camera.width, frame.camera.height, downscale);
+    view.camera = reduced_camera(frame.camera, reduction);
+    view.image = read_rgb(frame.image_path, frame.camera.width, frame.camera.height, reduction,
                           jobs[i].transforms->string(), options.background);
-    downscale_view(view, options.downscale, frame.image_path);
+    downscale_view(view, downscale / reduction, frame.image_path);
   });
   return dataset;
 }

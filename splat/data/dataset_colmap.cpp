@@ -88,28 +88,33 @@ Dataset load_colmap(const fs::path& folder, const fs::path& sparse_dir,
   std::sort(images.begin(), images.end(),
             [](const ColmapImage* a, const ColmapImage* b) { return a->name < b->name; });
 
-  // Each distorting camera's pinhole image, less the border its lens does not cover: the
-  // same for every view of the camera, so found once per camera.
-  std::map<std::uint32_t, PixelRect> covered_regions;
-  for (const ColmapCamera& camera : model.cameras) {
-    const Intrinsics intrinsics = intrinsics_of(camera);
-    if (intrinsics.distortion.is_identity()) continue;
-    const PixelRect covered = covered_region(intrinsics.camera, intrinsics.distortion);
-    if (covered.width < camera.width / 2 || covered.height < camera.height / 2)
-      throw InputError(model.cameras_file,
-                       "camera " + std::to_string(camera.id) + ": its distortion leaves only " +
-                           std::to_string(covered.width) + " x " + std::to_string(covered.height) + " of the " +
-                           std::to_string(camera.width) + " x " + std::to_string(camera.height) +
-                           " image covered");
-    covered_regions[camera.id] = covered;
-  }
-
   std::vector<ImageSize> sizes;
   for (const ColmapImage* image : images) {
     const ColmapCamera& camera = *model.find_camera(image->camera_id);
     sizes.push_back({camera.width, camera.height});
   }
-  check_dataset_fits_in_memory(folder, sizes, options.downscale);
+  const int downscale = chosen_downscale(sizes, options);
+
+  // Each distorting camera's pinhole image, less the border its lens does not cover: the
+  // same for every view of the camera, so found once per camera.
+  std::map<std::uint32_t, PixelRect> covered_regions;
+  // (At the size the camera's photos are read at: reduced when beyond the pixel limit.)
+  for (const ColmapCamera& camera : model.cameras) {
+    const Intrinsics intrinsics = intrinsics_of(camera);
+    if (intrinsics.distortion.is_identity()) continue;
+    const Camera read_camera =
+        reduced_camera(intrinsics.camera, read_reduction(camera.width, camera.height, downscale));
+    const PixelRect covered = covered_region(read_camera, intrinsics.distortion);
+    if (covered.width < read_camera.width / 2 || covered.height < read_camera.height / 2)
+      throw InputError(model.cameras_file,
+                       "camera " + std::to_string(camera.id) + ": its distortion leaves only " +
+                           std::to_string(covered.width) + " x " + std::to_string(covered.height) + " of the " +
+                           std::to_string(read_camera.width) + " x " + std::to_string(read_camera.height) +
+                           " image covered");
+    covered_regions[camera.id] = covered;
+  }
+
+  check_dataset_fits_in_memory(folder, sizes, downscale);
 
   std::vector<DatasetView> views(images.size());
   for_each_in_parallel(images.size(), [&](std::size_t i) {
@@ -117,13 +122,14 @@ Dataset load_colmap(const fs::path& folder, const fs::path& sparse_dir,
     const Intrinsics intrinsics = intrinsics_of(*model.find_camera(image.camera_id));
     DatasetView& view = views[i];
     view.name = fs::path(image.name).stem().string();
-    view.camera = intrinsics.camera;
+    const int reduction = read_reduction(intrinsics.camera.width, intrinsics.camera.height, downscale);
+    view.camera = reduced_camera(intrinsics.camera, reduction);
     view.camera.camera_from_world_rotation = rotation_from_quaternion(image.quaternion);
     view.camera.camera_from_world_translation =
         glm::vec3(float(image.translation[0]), float(image.translation[1]),
                   float(image.translation[2]));
     const fs::path file = image_dir / image.name;
-    view.image = read_rgb(file, view.camera.width, view.camera.height,
+    view.image = read_rgb(file, intrinsics.camera.width, intrinsics.camera.height, reduction,
                           model.cameras_file.string() + " (camera " +
                               std::to_string(image.camera_id) + ")",
                           options.background);
@@ -134,10 +140,11 @@ Dataset load_colmap(const fs::path& folder, const fs::path& sparse_dir,
                               covered);
       view.camera = crop_camera(view.camera, covered);
     }
-    downscale_view(view, options.downscale, file);
+    downscale_view(view, downscale / reduction, file);
   });
 
   Dataset dataset;
+  dataset.downscale = downscale;
   const std::size_t every = std::size_t(options.holdout_every.value_or(kTestEvery));
   for (std::size_t i = 0; i < views.size(); ++i)
     (every > 0 && i % every == 0 ? dataset.test : dataset.train).push_back(std::move(views[i]));

@@ -17,11 +17,20 @@ Dataset load_blender(const std::filesystem::path& folder, const DatasetOptions& 
 Dataset load_colmap(const std::filesystem::path& folder, const std::filesystem::path& sparse_dir,
                     const DatasetOptions& options);
 
-// Reads `file` as three channels: RGB as stored, RGBA composited onto `background` with
-// straight alpha (rgb·a + bg·(1 − a)). InputError naming the file when it is missing,
-// unreadable, has another channel count, or is not `width` x `height`; `size_source` says
-// where that size comes from ("the camera in transforms_train.json").
-Image read_rgb(const std::filesystem::path& file, int width, int height,
+// The reduction an image of `width` x `height` is read at: the downscale when the whole image
+// is beyond the pixel limit (kMaxImagePixels), so that a photograph of any size loads with
+// --downscale (read_image_reduced: a JPEG decoded at 1/2..1/8 by libjpeg); else 1, read whole
+// and downscaled after (undistortion, if any, at full size), as always.
+int read_reduction(int width, int height, int downscale);
+
+// `camera` at 1/reduction of its size (floor), intrinsics scaled; itself for reduction 1.
+Camera reduced_camera(const Camera& camera, int reduction);
+
+// Reads `file` at 1/`reduction` of its size as three channels: RGB as stored, RGBA composited
+// onto `background` with straight alpha (rgb·a + bg·(1 − a)). InputError naming the file when
+// it is missing, unreadable, has another channel count, or is not `width` x `height` (its full
+// size); `size_source` says where that size comes from ("the camera in transforms_train.json").
+Image read_rgb(const std::filesystem::path& file, int width, int height, int reduction,
                const std::string& size_source, const float background[3]);
 
 // The view at 1/downscale of its size (floor), area-filtered, intrinsics scaled. InputError
@@ -36,6 +45,10 @@ void downscale_view(DatasetView& view, int downscale, const std::filesystem::pat
 struct ImageSize {
   int width = 0, height = 0;
 };
+// The downscale the images load at: options.downscale, or with max_width > 0 and downscale 1,
+// the smallest factor that brings the widest of `sizes` to at most max_width.
+int chosen_downscale(const std::vector<ImageSize>& sizes, const DatasetOptions& options);
+
 void check_dataset_fits_in_memory(const std::filesystem::path& source, const std::vector<ImageSize>& sizes,
                                   int downscale);
 

@@ -234,10 +234,10 @@ Image read_image_reduced(const std::filesystem::path& file, int reduction) {
   Image image;
   int stored_width = 0, stored_height = 0;
   if (format_of(file).reader == Reader::jpeg) {
-    // The largest of libjpeg's reductions that divides ours decodes the fewest pixels and
-    // leaves an area average to finish on whole blocks of the stored pixels.
+    // The largest of libjpeg's reductions not beyond ours decodes the fewest pixels; an area
+    // average finishes the rest (on whole blocks of decoded pixels when it divides ours).
     unsigned denominator = 8;
-    while (reduction % int(denominator) != 0) denominator /= 2;
+    while (int(denominator) > reduction) denominator /= 2;
     ReducedJpeg reduced = read_jpeg_reduced(file, denominator);
     stored_width = reduced.stored.width;
     stored_height = reduced.stored.height;

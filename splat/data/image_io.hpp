@@ -15,8 +15,8 @@ namespace splat {
 Image read_image(const std::filesystem::path& file);
 
 // The image at 1/`reduction` of its size (floor of each side), averaged over areas. A JPEG is
-// decoded at 1/2, 1/4 or 1/8 by libjpeg when that divides the reduction, and only that size
-// must fit the pixel limit: a 24 MP photograph loads at a quarter. Other formats are decoded
+// decoded at the largest of 1/2, 1/4 or 1/8 not beyond the reduction by libjpeg, and only that
+// size must fit the pixel limit: a 24 MP photograph loads at a half or less. Other formats are decoded
 // whole first. InputError naming the file, also when a side would be 0; ArgumentError for a
 // reduction below 1.
 Image read_image_reduced(const std::filesystem::path& file, int reduction);

@@ -158,7 +158,7 @@ Size native_size(const FrameReader& reader, const std::function<Size()>& fallbac
   const Field w = reader.find("w"), h = reader.find("h");
   if (w && h) {
     const Size size{reader.image_side(w), reader.image_side(h)};
-    if (const std::string problem = image_size_problem(size.width, size.height); !problem.empty())
+    if (const std::string problem = camera_size_problem(size.width, size.height); !problem.empty())
       reader.fail(w.where + " x " + h.where + ": " + problem);
     return size;
   }
@@ -239,7 +239,7 @@ std::vector<CameraFrame> load_transforms(const std::filesystem::path& file,
       std::error_code ec;
       if (fs::exists(first_image, ec)) {
         try {
-          const ImageInfo info = read_image_info(first_image);
+          const ImageInfo info = read_image_stored_size(first_image);
           first_image_size = Size{info.width, info.height};
         } catch (const InputError& e) {
           throw InputError(file, std::string("cannot take the image size from the first frame: ") +
