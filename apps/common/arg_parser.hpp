@@ -1,6 +1,9 @@
 #pragma once
-// A small "--name value" / "--flag" command-line parser. Unknown options, missing values and
-// malformed numbers raise splat::ArgumentError, which run_main turns into exit status 2.
+// A small "--name value" / "--name=value" / "--flag" command-line parser, the same for every
+// program: "-h" is "--help" (where there is one), "--version" prints the program's name and
+// the project's version and exits 0. Unknown options (with the nearest known one suggested),
+// missing values and malformed numbers raise splat::ArgumentError, which run_main turns into
+// exit status 2.
 #include <optional>
 #include <string>
 #include <vector>

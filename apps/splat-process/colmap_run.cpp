@@ -11,9 +11,15 @@ namespace fs = std::filesystem;
 namespace splat::process {
 namespace {
 
+constexpr const char* kNoModel =
+    "COLMAP's mapper made no model: the photos share too few features (more overlap between neighbouring photos, "
+    "sharper photos or more texture help)";
+
 void run_stage(std::vector<std::string> arguments, const ColmapRunOptions& options, const std::string& what) {
   const fs::path log = options.work_dir / "colmap.log";
   const int status = cli::run_program(arguments, log);
+  if (status != 0 && cli::last_line_of_file(log).find("failed to create sparse model") != std::string::npos)
+    throw ArgumentError(kNoModel);
   if (status != 0)
     throw ArgumentError("COLMAP's " + what + " failed (exit status " + std::to_string(status) +
                         "); its last words: " + cli::last_line_of_file(log));
@@ -64,8 +70,7 @@ Reconstruction run_colmap(const ColmapRunOptions& options, const std::function<v
   }
   largest.models = int(models.size());
   if (largest.registered.empty())
-    throw ArgumentError("COLMAP's mapper made no model: the photos share too few features (more overlap between "
-                        "neighbouring photos, sharper photos or more texture help)");
+    throw ArgumentError(kNoModel);
   return largest;
 }
 
