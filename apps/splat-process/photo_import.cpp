@@ -37,8 +37,9 @@ std::vector<fs::path> list_images(const fs::path& folder) {
 
 ImportedPhotos import_photos(const std::vector<fs::path>& photos, const fs::path& images_dir, int max_side) {
   ImportedPhotos imported;
+  std::vector<ImageInfo> sizes;
   for (const fs::path& photo : photos) {
-    const ImageInfo info = read_image_stored_size(photo);
+    const ImageInfo& info = sizes.emplace_back(read_image_stored_size(photo));
     if (std::max(info.width, info.height) > std::max(imported.largest_width, imported.largest_height)) {
       imported.largest_width = info.width;
       imported.largest_height = info.height;
@@ -48,7 +49,8 @@ ImportedPhotos import_photos(const std::vector<fs::path>& photos, const fs::path
   if (max_side > 0 && longest > max_side) imported.scale = double(max_side) / double(longest);
   fs::create_directories(images_dir);
   std::set<std::string> names;
-  for (const fs::path& photo : photos) {
+  for (std::size_t i = 0; i < photos.size(); ++i) {
+    const fs::path& photo = photos[i];
     const std::string name = imported.scale < 1.0 ? photo.stem().string() + ".png" : photo.filename().string();
     if (!names.insert(name).second)
       throw InputError(photo, "another photo of the folder has the same name once downscaled (" + name + ")");
@@ -58,7 +60,7 @@ ImportedPhotos import_photos(const std::vector<fs::path>& photos, const fs::path
     }
     // Decoded at the whole reduction below the scale (a JPEG at 1/2, 1/4 or 1/8 by libjpeg),
     // so a photo beyond the pixel limit loads, then averaged to the exact size.
-    const ImageInfo stored = read_image_stored_size(photo);
+    const ImageInfo& stored = sizes[i];
     const Image image = read_image_reduced(photo, std::max(1, int(std::floor(1.0 / imported.scale))));
     const int width = std::max(1, int(std::lround(stored.width * imported.scale)));
     const int height = std::max(1, int(std::lround(stored.height * imported.scale)));
