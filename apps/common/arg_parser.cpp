@@ -128,26 +128,27 @@ std::optional<double> ArgParser::number(const std::string& name) const {
   return parsed;
 }
 
-std::optional<std::vector<float>> ArgParser::float_list(const std::string& name,
-                                                        std::size_t count) const {
+std::optional<std::array<float, 3>> ArgParser::colour(const std::string& name) const {
   auto v = value(name);
   if (!v) return std::nullopt;
-  std::vector<float> out;
-  std::size_t start = 0;
+  if (*v == "white") return std::array<float, 3>{1, 1, 1};
+  if (*v == "black") return std::array<float, 3>{0, 0, 0};
+  const auto malformed = [&] {
+    return ArgumentError("option --" + name + " expects white, black or R,G,B with each in [0, 1], got '" +
+                         *v + "'");
+  };
+  std::array<float, 3> out{};
+  std::size_t count = 0, start = 0;
   while (start <= v->size()) {
     const std::size_t comma = std::min(v->find(',', start), v->size());
     const std::string part = v->substr(start, comma - start);
     char* end = nullptr;
     const double parsed = std::strtod(part.c_str(), &end);
-    if (part.empty() || *end != '\0' || !std::isfinite(parsed))
-      throw ArgumentError("option --" + name + " expects " + std::to_string(count) +
-                          " comma-separated numbers, got '" + *v + "'");
-    out.push_back(float(parsed));
+    if (part.empty() || *end != '\0' || !(parsed >= 0 && parsed <= 1) || count == 3) throw malformed();
+    out[count++] = float(parsed);
     start = comma + 1;
   }
-  if (out.size() != count)
-    throw ArgumentError("option --" + name + " expects " + std::to_string(count) +
-                        " comma-separated numbers, got '" + *v + "'");
+  if (count != 3) throw malformed();
   return out;
 }
 

@@ -4,6 +4,7 @@
 // the project's version and exits 0. Unknown options (with the nearest known one suggested),
 // missing values and malformed numbers raise splat::ArgumentError, which run_main turns into
 // exit status 2.
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,8 +26,9 @@ class ArgParser {
   // thread numbers, factors).
   std::optional<int> positive_integer(const std::string& name) const;
   std::optional<double> number(const std::string& name) const;
-  // "R,G,B" with each in [0, 1], e.g. --bg 1,1,1.
-  std::optional<std::vector<float>> float_list(const std::string& name, std::size_t count) const;
+  // A colour, the one syntax every program's --bg takes: "white", "black", or "R,G,B" with each
+  // component in [0, 1] (e.g. --bg 0.5,0.5,0.5); ArgumentError for anything else.
+  std::optional<std::array<float, 3>> colour(const std::string& name) const;
   const std::vector<std::string>& positionals() const { return positionals_; }
   // ArgumentError naming the first word that is not an option, for tools that take none.
   void expect_no_positionals() const;

@@ -72,7 +72,8 @@ can share one folder and one report. --report (with --out only) just redraws the
   --sweep-gaussians N,N,...   run the Gaussian budget sweep with these budgets
   --eval-every-seconds T      score the test views every T seconds of training (default S/10)
   --threads N                 worker threads for every method (default: all cores)
-  --bg white|black            background the RGBA images are composited onto (default white)
+  --bg COLOUR                 background the RGBA images are composited onto: white, black or
+                              R,G,B in [0, 1] (default white)
   --downscale K               train and evaluate at 1/K of the image size (default: 1, or
                               the smallest K that brings images wider than 1,600 pixels to
                               1,600 at most, as the official trainer does)
@@ -142,9 +143,8 @@ int main(int argc, char** argv) {
     if (auto n = args.positive_integer("threads")) options.threads = *n;
     if (auto k = args.positive_integer("downscale")) options.dataset.downscale = *k;
     else options.dataset.max_width = splat::kDefaultMaxImageWidth;
-    const std::string bg = args.value("bg").value_or("white");
-    if (bg != "white" && bg != "black") throw splat::ArgumentError("--bg must be white or black");
-    for (float& c : options.dataset.background) c = bg == "white" ? 1.0f : 0.0f;  // and the trainers'
+    const std::array<float, 3> bg = args.colour("bg").value_or(std::array<float, 3>{1, 1, 1});
+    std::copy(bg.begin(), bg.end(), options.dataset.background);  // and the trainers'
     options.quiet = args.has("quiet");
     if (args.has("stability") && args.value("sweep-gaussians"))
       throw splat::ArgumentError("--stability and --sweep-gaussians are separate runs; give one");

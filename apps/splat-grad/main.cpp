@@ -1,4 +1,4 @@
-// splat-grad --model PLY --cameras TRANSFORMS.json --view K --width W --height H --bg R,G,B
+// splat-grad --model PLY --cameras TRANSFORMS.json --view K --width W --height H --bg COLOUR
 //            --weights W.f32 --out G.f32 [--image I.f32] [--compare G_REF.f32] [--bench N]
 //
 // Renders view K, forms L = Σ W·I over the unclamped image I (W raw float32 [3, H, W]), and
@@ -27,7 +27,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kUsage = R"(usage: splat-grad --model PLY --cameras TRANSFORMS.json --view K
-                  --width W --height H --bg R,G,B --weights W.f32 --out G.f32
+                  --width W --height H --bg COLOUR --weights W.f32 --out G.f32
                   [--image I.f32] [--compare G_REF.f32] [--bench N]
 
 Renders view K of the transforms file, forms L = sum(W * I) over the unclamped image I
@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
       throw splat::ArgumentError("--width and --height are required, in 1..16384");
     const std::optional<int> bench = args.integer("bench");
     if (bench && (*bench < 1 || *bench > 100000)) throw splat::ArgumentError("--bench must be in 1..100000");
-    const auto bg = args.float_list("bg", 3);
+    const auto bg = args.colour("bg");
     if (!bg) throw splat::ArgumentError("missing required option --bg");
 
     const splat::GaussianModel model = splat::read_ply(model_file);

@@ -1,4 +1,4 @@
-// splat-psnr A B [--bg R,G,B]: PSNR between two images, or between same-named PNGs of two
+// splat-psnr A B [--bg COLOUR]: PSNR between two images, or between same-named PNGs of two
 // folders (one line per image, then the minimum and mean). Used for the conformance protocol
 // (P2): splat-psnr OUT testdata/conformance/reference. With --bg, RGBA images (a dataset's
 // test images) are composited onto that background first, as the trainers see them.
@@ -20,7 +20,7 @@ namespace {
 
 // Colour channels only: without a background, an alpha channel is not part of the
 // picture's PSNR; with one, the picture is what shows over it.
-splat::Image rgb_of(const splat::Image& image, const std::optional<std::vector<float>>& background) {
+splat::Image rgb_of(const splat::Image& image, const std::optional<std::array<float, 3>>& background) {
   if (image.channels != 4) return image;
   if (background) return splat::composite_onto(image, background->data());
   splat::Image rgb(image.width, image.height, 3);
@@ -30,7 +30,7 @@ splat::Image rgb_of(const splat::Image& image, const std::optional<std::vector<f
 }
 
 double psnr_of_files(const fs::path& a, const fs::path& b,
-                     const std::optional<std::vector<float>>& background) {
+                     const std::optional<std::array<float, 3>>& background) {
   const splat::Image image_a = rgb_of(splat::read_image(a), background);
   const splat::Image image_b = rgb_of(splat::read_image(b), background);
   const auto shape = [](const splat::Image& i) {
@@ -48,15 +48,16 @@ int main(int argc, char** argv) {
   return splat::cli::run_main([&] {
     splat::cli::ArgParser args(argc, argv, {"bg"}, {"help"});
     if (args.has("help")) {
-      std::fputs("usage: splat-psnr A B [--bg R,G,B]   (two images, or two folders of same-named\n"
-                 "       PNGs; --bg composites RGBA images onto that background first)\n",
+      std::fputs("usage: splat-psnr A B [--bg COLOUR]   (two images, or two folders of same-named\n"
+                 "       PNGs; --bg composites RGBA images onto that background first:\n"
+                 "       white, black or R,G,B in [0, 1])\n",
                  stdout);
       return 0;
     }
     if (args.positionals().size() != 2)
       throw splat::ArgumentError("expected two images or two folders, A and B (see --help)");
     const fs::path a = args.positionals()[0], b = args.positionals()[1];
-    const std::optional<std::vector<float>> background = args.float_list("bg", 3);
+    const std::optional<std::array<float, 3>> background = args.colour("bg");
     for (const fs::path& input : {a, b})
       if (!fs::exists(input)) throw splat::InputError(input, "does not exist");
     if (fs::is_directory(a) != fs::is_directory(b))

@@ -1,5 +1,5 @@
 // splat-render --model FILE --cameras TRANSFORMS.json --out DIR [--width W --height H]
-//              [--bg R,G,B] [--bench N] [--sh-degree D] [--threads N] [--png16]
+//              [--bg COLOUR] [--bench N] [--sh-degree D] [--threads N] [--png16]
 // splat-render --model FILE --path orbit|spiral|interpolate [--frames N] [--video OUT.mp4]
 //              [--out DIR] [--cameras TRANSFORMS.json] [--fps F] ...
 #include <cstdio>
@@ -20,11 +20,11 @@ constexpr int kMaxPathFrames = 100000;
 constexpr double kMaxFps = 240;
 
 constexpr const char* kUsage = R"(usage: splat-render --model FILE --cameras TRANSFORMS.json --out DIR
-                    [--width W --height H] [--bg R,G,B] [--bench N]
+                    [--width W --height H] [--bg COLOUR] [--bench N]
                     [--sh-degree D] [--threads N] [--png16]
        splat-render --model FILE --path orbit|spiral|interpolate [--frames N]
                     [--video OUT.mp4] [--out DIR] [--cameras TRANSFORMS.json] [--fps F]
-                    [--width W --height H] [--bg R,G,B] [--sh-degree D] [--threads N] [--png16]
+                    [--width W --height H] [--bg COLOUR] [--sh-degree D] [--threads N] [--png16]
 
 Renders every frame of a Blender/NeRF-synthetic transforms JSON with the CPU Gaussian
 rasterizer (or a NeRF's renderer) and writes <out>/<frame name>.png; or, with --path, a
@@ -48,7 +48,7 @@ fly-through: N frames along a camera path, as a video and/or <out>/frame_0000.pn
   --video FILE        encode the path's frames with ffmpeg (must be installed): .mp4 or .mkv
                       (H.264), .webm (VP9); written whole or not at all
   --fps F             the video's frame rate, up to 240 (default 30)
-  --bg R,G,B          background colour in [0,1] (default 1,1,1)
+  --bg COLOUR         background: white, black or R,G,B in [0, 1] (default white)
   --sh-degree D       spherical-harmonic bands to use, 0..3 (default: all the model has)
   --bench N           render each frame N more times after a warm-up; print the median
                       ms per frame and its breakdown; the last line is a JSON object
@@ -113,13 +113,8 @@ int main(int argc, char** argv) {
       throw splat::ArgumentError("--width/--height must be in 1..16384");
     if ((options.width > 0) != (options.height > 0))
       throw splat::ArgumentError("give both --width and --height, or neither");
-    if (auto bg = args.float_list("bg", 3)) {
-      for (int c = 0; c < 3; ++c) {
-        if ((*bg)[c] < 0 || (*bg)[c] > 1)
-          throw splat::ArgumentError("--bg components must be in [0, 1]");
-        options.background[c] = (*bg)[c];
-      }
-    }
+    if (auto bg = args.colour("bg"))
+      for (int c = 0; c < 3; ++c) options.background[c] = (*bg)[c];
     options.sh_degree = args.integer("sh-degree").value_or(3);
     if (options.sh_degree < 0 || options.sh_degree > 3)
       throw splat::ArgumentError("--sh-degree must be 0..3");

@@ -1,5 +1,5 @@
 // splat-train --data DIR --out DIR [--method splat|nerf] [--iters N] [--max-seconds S]
-//             [--bg white|black] [--seed N] [--threads N] [--downscale K] ...
+//             [--bg COLOUR] [--seed N] [--threads N] [--downscale K] ...
 #include <cstdio>
 #include <exception>
 #include <memory>
@@ -34,7 +34,8 @@ on as transforms files (DIR/cameras_train.json, DIR/cameras_test.json) that spla
   --iters N             iterations (default 50000 compact, 30000 official, 20000 nerf;
                         with --max-seconds the NeRF trains until the time is up)
   --max-seconds S       stop after S seconds of wall time (whichever limit comes first)
-  --bg white|black      background the RGBA images are composited onto (default white)
+  --bg COLOUR           background the RGBA images are composited onto: white, black or
+                        R,G,B in [0, 1] (default white)
   --seed N              random seed (default 0); results do not depend on --threads
   --threads N           worker threads (default: all cores)
   --downscale K         train and evaluate at 1/K of the image size (default: 1, or the
@@ -81,9 +82,8 @@ void apply_options(const splat::cli::ArgParser& args, Config& config,
     if (*s <= 0) throw splat::ArgumentError("--max-seconds must be > 0");
     config.max_seconds = *s;
   }
-  const std::string bg = args.value("bg").value_or("white");
-  if (bg != "white" && bg != "black") throw splat::ArgumentError("--bg must be white or black");
-  for (int c = 0; c < 3; ++c) config.background[c] = options.dataset.background[c] = bg == "white" ? 1.0f : 0.0f;
+  const std::array<float, 3> bg = args.colour("bg").value_or(std::array<float, 3>{1, 1, 1});
+  for (int c = 0; c < 3; ++c) config.background[c] = options.dataset.background[c] = bg[c];
   if (auto seed = args.integer("seed")) {
     if (*seed < 0) throw splat::ArgumentError("--seed must be >= 0");
     config.seed = unsigned(*seed);

@@ -21,7 +21,7 @@ Controls: left drag orbit, right/middle drag pan, scroll zoom, W A S D Q E fly, 
   --cameras FILE        transforms JSON: start at its view, step through them with [ ]
   --view K              the view of --cameras to start at (default 0)
   --width W --height H  size of one panel (default: the cameras' image size, else 800x600)
-  --bg white|black      background (default white)
+  --bg COLOUR           background: white, black or R,G,B in [0, 1] (default white)
   --sh-degree N         SH degree to start with, 0..3 (default 3)
   --fps F               frame rate reduced resolution aims to hold while moving (default 30)
   --screenshot PNG      draw the view at full resolution, save the window to PNG, exit 0
@@ -68,9 +68,8 @@ int main(int argc, char** argv) {
       throw splat::ArgumentError("--view needs --cameras");
     }
     if (width) options.width = *width, options.height = *height;
-    const std::string bg = args.value("bg").value_or("white");
-    if (bg != "white" && bg != "black") throw splat::ArgumentError("--bg must be white or black");
-    for (float& c : options.settings.background) c = bg == "white" ? 1.0f : 0.0f;
+    const std::array<float, 3> bg = args.colour("bg").value_or(std::array<float, 3>{1, 1, 1});
+    std::copy(bg.begin(), bg.end(), options.settings.background);
     if (auto n = args.integer("sh-degree")) {
       if (*n < 0 || *n > 3) throw splat::ArgumentError("--sh-degree must be 0..3");
       options.settings.sh_degree = *n;
