@@ -52,6 +52,7 @@ struct Image {
   float& at(int x, int y, int c) { return data[(std::size_t(y) * width + x) * channels + c]; }
   float at(int x, int y, int c) const { return data[(std::size_t(y) * width + x) * channels + c]; }
   std::size_t pixel_count() const { return std::size_t(width) * height; }
+  bool empty() const { return data.empty(); }
 };
 
 // An RGBA image with straight (unpremultiplied) alpha, as PNG stores it, seen over a

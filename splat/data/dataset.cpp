@@ -13,6 +13,7 @@
 #include "splat/data/dataset_loading.hpp"
 #include "splat/data/image_io.hpp"
 #include "splat/data/resample.hpp"
+#include "splat/data/undistort.hpp"
 
 namespace splat {
 namespace dataset_detail {
@@ -106,7 +107,83 @@ void downscale_view(DatasetView& view, int downscale, const fs::path& file) {
                                std::to_string(view.image.height) +
                                ", too small to downscale by " + std::to_string(downscale));
   view.image = resample_area(view.image, width, height);
+  if (!view.mask.empty()) view.mask = resample_area(view.mask, width, height);
   view.camera = view.camera.resized(width, height);
+}
+
+namespace {
+
+// A mask image's first channel as weights in [0, 1] (nerfstudio: 0 leaves the pixel out),
+// at 1/`reduction` of the photo's `width` x `height`, which it must match.
+Image read_mask(const fs::path& file, int width, int height, int reduction) {
+  std::error_code ec;
+  if (!fs::exists(file, ec)) throw InputError(file, "mask image does not exist");
+  const ImageInfo stored = read_image_stored_size(file);
+  if (stored.width != width || stored.height != height)
+    throw InputError(file, "mask is " + std::to_string(stored.width) + " x " + std::to_string(stored.height) +
+                               " but its photo is " + std::to_string(width) + " x " + std::to_string(height));
+  const Image image = reduction == 1 ? read_image(file) : read_image_reduced(file, reduction);
+  Image mask(image.width, image.height, 1);
+  for (std::size_t p = 0; p < mask.pixel_count(); ++p) mask.data[p] = image.data[p * std::size_t(image.channels)];
+  return mask;
+}
+
+// The mask as the photo's undistortion sees it: the same resampling, one channel carried as
+// three; nothing outside the photo counts.
+Image undistorted_mask(const Image& mask, const Camera& pinhole, const LensDistortion& distortion) {
+  Image rgb(mask.width, mask.height, 3);
+  for (std::size_t p = 0; p < mask.pixel_count(); ++p)
+    for (int c = 0; c < 3; ++c) rgb.data[3 * p + std::size_t(c)] = mask.data[p];
+  const float outside[3] = {0, 0, 0};
+  const Image undistorted = undistort_image(rgb, pinhole, distortion, outside);
+  Image out(mask.width, mask.height, 1);
+  for (std::size_t p = 0; p < out.pixel_count(); ++p) out.data[p] = undistorted.data[3 * p];
+  return out;
+}
+
+}  // namespace
+
+Dataset split_by_holdout(std::vector<DatasetView> views, const DatasetOptions& options, const fs::path& source) {
+  constexpr int kTestEvery = 8;
+  const std::size_t every = std::size_t(options.holdout_every.value_or(kTestEvery));
+  Dataset dataset;
+  for (std::size_t i = 0; i < views.size(); ++i)
+    (every > 0 && i % every == 0 ? dataset.test : dataset.train).push_back(std::move(views[i]));
+  if (dataset.train.empty())
+    throw InputError(source, "only " + std::to_string(views.size()) + " image(s): with one in " +
+                                 std::to_string(every) + " held out for testing none is left to train on");
+  return dataset;
+}
+
+ViewSource view_source(const CameraFrame& frame, const fs::path& transforms) {
+  return {frame.image_path, frame.mask_path, frame.camera, frame.distortion, std::nullopt,
+          "the camera in " + transforms.string()};
+}
+
+void load_view(const ViewSource& source, int downscale, const float background[3], DatasetView& view) {
+  const int width = source.camera.width, height = source.camera.height;
+  const int reduction = read_reduction(width, height, downscale);
+  view.camera = reduced_camera(source.camera, reduction);
+  view.image = read_rgb(source.image, width, height, reduction, source.size_source, background);
+  if (!source.mask.empty()) view.mask = read_mask(source.mask, width, height, reduction);
+  if (!source.distortion.is_identity()) {  // the photo through a pinhole, cut to its cover
+    PixelRect covered;
+    if (source.covered) {
+      covered = *source.covered;
+    } else {
+      covered = covered_region(view.camera, source.distortion);
+      if (covered.width < view.camera.width / 2 || covered.height < view.camera.height / 2)
+        throw InputError(source.image, "its camera's distortion leaves only " + std::to_string(covered.width) +
+                                           " x " + std::to_string(covered.height) + " of the " +
+                                           std::to_string(view.camera.width) + " x " +
+                                           std::to_string(view.camera.height) + " image covered");
+    }
+    view.image = crop_image(undistort_image(view.image, view.camera, source.distortion, background), covered);
+    if (!view.mask.empty())
+      view.mask = crop_image(undistorted_mask(view.mask, view.camera, source.distortion), covered);
+    view.camera = crop_camera(view.camera, covered);
+  }
+  downscale_view(view, downscale / reduction, source.image);
 }
 
 void for_each_in_parallel(std::size_t count, const std::function<void(std::size_t)>& job) {
@@ -167,6 +244,8 @@ Dataset load_dataset(const fs::path& folder, const DatasetOptions& options) {
       throw InputError(folder, "a Blender dataset's test views are those of its transforms_test.json; "
                                "holding out every K-th view is for COLMAP data");
     dataset = dataset_detail::load_blender(folder, options);
+  } else if (fs::exists(folder / "transforms.json", ec)) {
+    dataset = dataset_detail::load_nerfstudio(folder, options);
   } else if (fs::is_directory(folder / "sparse" / "0", ec)) {
     dataset = dataset_detail::load_colmap(folder, folder / "sparse" / "0", options);
   } else if (has_cameras_file(folder / "sparse")) {
@@ -174,7 +253,8 @@ Dataset load_dataset(const fs::path& folder, const DatasetOptions& options) {
   } else {
     throw InputError(folder,
                      "not a dataset folder: expected transforms_train.json (Blender / "
-                     "NeRF-synthetic) or sparse/0/ with cameras, images and points3D (COLMAP)");
+                     "NeRF-synthetic), transforms.json (nerfstudio) or sparse/0/ with cameras, images "
+                     "and points3D (COLMAP)");
   }
   dataset.scene_extent = dataset_detail::scene_extent(dataset.train);
   if (options.train_views > 0) keep_training_views(dataset, options.train_views);

@@ -15,6 +15,9 @@ struct DatasetView {
   std::string name;        // image base name, e.g. "r_1" or "000"
   Camera camera;           // pinhole, internal convention, at the loaded (downscaled) size
   Image image;             // [H, W, 3] in [0, 1], alpha composited onto the background
+  // [H, W, 1] weights in [0, 1] from a nerfstudio mask: pixels at 0 are neither trained on
+  // nor scored. Empty (the usual case): every pixel counts.
+  Image mask = {};
   // The share of the image's frame (its outermost rows and columns) that shows only the
   // plain background it was composited onto: transparent in the file, or that colour
   // exactly. Near 1 for an object rendered or photographed on its own, near 0 when the

@@ -53,13 +53,8 @@ Dataset load_blender(const fs::path& folder, const DatasetOptions& options) {
 
   for_each_in_parallel(jobs.size(), [&](std::size_t i) {
     const CameraFrame& frame = *jobs[i].frame;
-    DatasetView& view = *jobs[i].out;
-    view.name = frame.name;
-    const int reduction = read_reduction(frame.camera.width, frame.camera.height, downscale);
-    view.camera = reduced_camera(frame.camera, reduction);
-    view.image = read_rgb(frame.image_path, frame.camera.width, frame.camera.height, reduction,
-                          jobs[i].transforms->string(), options.background);
-    downscale_view(view, downscale / reduction, frame.image_path);
+    jobs[i].out->name = frame.name;
+    load_view(view_source(frame, *jobs[i].transforms), downscale, options.background, *jobs[i].out);
   });
   return dataset;
 }

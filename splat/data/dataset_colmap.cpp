@@ -20,10 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Every 8th image in name order is held out for testing (the LLFF / Mip-NeRF 360 habit the
-// official 3DGS evaluation follows).
-constexpr std::size_t kTestEvery = 8;
-
 // Rotation matrix of the unit quaternion (w, x, y, z); COLMAP normalises before use too.
 glm::mat3 rotation_from_quaternion(const std::array<double, 4>& q) {
   const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
@@ -119,39 +115,23 @@ Dataset load_colmap(const fs::path& folder, const fs::path& sparse_dir,
   std::vector<DatasetView> views(images.size());
   for_each_in_parallel(images.size(), [&](std::size_t i) {
     const ColmapImage& image = *images[i];
+    ViewSource source;
     const Intrinsics intrinsics = intrinsics_of(*model.find_camera(image.camera_id));
-    DatasetView& view = views[i];
-    view.name = fs::path(image.name).stem().string();
-    const int reduction = read_reduction(intrinsics.camera.width, intrinsics.camera.height, downscale);
-    view.camera = reduced_camera(intrinsics.camera, reduction);
-    view.camera.camera_from_world_rotation = rotation_from_quaternion(image.quaternion);
-    view.camera.camera_from_world_translation =
-        glm::vec3(float(image.translation[0]), float(image.translation[1]),
-                  float(image.translation[2]));
-    const fs::path file = image_dir / image.name;
-    view.image = read_rgb(file, intrinsics.camera.width, intrinsics.camera.height, reduction,
-                          model.cameras_file.string() + " (camera " +
-                              std::to_string(image.camera_id) + ")",
-                          options.background);
-    if (!intrinsics.distortion.is_identity()) {  // the photo through a pinhole, cut to its cover
-      const PixelRect& covered = covered_regions.at(image.camera_id);
-      view.image = crop_image(undistort_image(view.image, view.camera, intrinsics.distortion,
-                                              options.background),
-                              covered);
-      view.camera = crop_camera(view.camera, covered);
-    }
-    downscale_view(view, downscale / reduction, file);
+    source.image = image_dir / image.name;
+    source.camera = intrinsics.camera;
+    source.camera.camera_from_world_rotation = rotation_from_quaternion(image.quaternion);
+    source.camera.camera_from_world_translation =
+        glm::vec3(float(image.translation[0]), float(image.translation[1]), float(image.translation[2]));
+    source.distortion = intrinsics.distortion;
+    if (auto covered = covered_regions.find(image.camera_id); covered != covered_regions.end())
+      source.covered = covered->second;
+    source.size_source = model.cameras_file.string() + " (camera " + std::to_string(image.camera_id) + ")";
+    views[i].name = fs::path(image.name).stem().string();
+    load_view(source, downscale, options.background, views[i]);
   });
 
-  Dataset dataset;
+  Dataset dataset = split_by_holdout(std::move(views), options, model.images_file);
   dataset.downscale = downscale;
-  const std::size_t every = std::size_t(options.holdout_every.value_or(kTestEvery));
-  for (std::size_t i = 0; i < views.size(); ++i)
-    (every > 0 && i % every == 0 ? dataset.test : dataset.train).push_back(std::move(views[i]));
-  if (dataset.train.empty())
-    throw InputError(model.images_file, "only " + std::to_string(views.size()) + " image(s): with one in " +
-                                            std::to_string(every) +
-                                            " held out for testing none is left to train on");
   dataset.points = PointCloud{std::move(model.point_positions), std::move(model.point_colors)};
   return dataset;
 }

@@ -1,19 +1,23 @@
 #pragma once
-// Internal to load_dataset: the two folder kinds (dataset_blender.cpp, dataset_colmap.cpp)
-// and the steps they share (dataset.cpp).
+// Internal to load_dataset: the folder kinds (dataset_blender.cpp, dataset_nerfstudio.cpp,
+// dataset_colmap.cpp) and the steps they share (dataset.cpp).
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "splat/core/camera.hpp"
 #include "splat/core/image.hpp"
 #include "splat/data/dataset.hpp"
+#include "splat/data/transforms_json.hpp"
+#include "splat/data/undistort.hpp"
 
 namespace splat::dataset_detail {
 
 Dataset load_blender(const std::filesystem::path& folder, const DatasetOptions& options);
+Dataset load_nerfstudio(const std::filesystem::path& folder, const DatasetOptions& options);
 Dataset load_colmap(const std::filesystem::path& folder, const std::filesystem::path& sparse_dir,
                     const DatasetOptions& options);
 
@@ -33,9 +37,37 @@ Camera reduced_camera(const Camera& camera, int reduction);
 Image read_rgb(const std::filesystem::path& file, int width, int height, int reduction,
                const std::string& size_source, const float background[3]);
 
-// The view at 1/downscale of its size (floor), area-filtered, intrinsics scaled. InputError
-// naming `file` when the image is too small for the factor.
+// The view at 1/downscale of its size (floor), area-filtered (its mask too), intrinsics
+// scaled. InputError naming `file` when the image is too small for the factor.
 void downscale_view(DatasetView& view, int downscale, const std::filesystem::path& file);
+
+// Where one view's photo comes from and what took it.
+struct ViewSource {
+  std::filesystem::path image;
+  std::filesystem::path mask;  // nerfstudio's per-image mask; empty: none
+  Camera camera;               // pinhole part and pose at the photo's full size
+  LensDistortion distortion;
+  // The part of the undistorted image the photo covers, at the size it is read at, when the
+  // caller found it once for many views (a COLMAP camera); otherwise found here.
+  std::optional<PixelRect> covered;
+  std::string size_source;  // where the camera's size comes from, for messages
+};
+
+// The steps every folder kind shares for one view: read the photo (reduced while reading when
+// beyond the pixel limit), undistort it to the pinhole image and cut it to what the photo
+// covers, read its mask and carry it through the same steps, downscale. `view.name` is left
+// to the caller. InputError naming the file for anything wrong with either image, and for a
+// distortion that leaves less than half the image covered in either direction.
+void load_view(const ViewSource& source, int downscale, const float background[3], DatasetView& view);
+
+// `views`, in name order, split as DatasetOptions::holdout_every says (every 8th a test view
+// by default, the LLFF / Mip-NeRF 360 habit the official 3DGS evaluation follows). InputError
+// naming `source` when no training view is left.
+Dataset split_by_holdout(std::vector<DatasetView> views, const DatasetOptions& options,
+                         const std::filesystem::path& source);
+
+// The source of a frame of a transforms file.
+ViewSource view_source(const CameraFrame& frame, const std::filesystem::path& transforms);
 
 // Every view's image is held in memory as float RGB (12 bytes a pixel) at 1/downscale of
 // `sizes`. InputError naming `source` when that is more than half of this machine's memory

@@ -200,6 +200,32 @@ void read_intrinsics(const FrameReader& reader, const Size& size, Camera& cam) {
   cam.cy = cy ? float(reader.finite_number(cy)) : 0.5f * float(size.height);
 }
 
+// nerfstudio's camera models that are a pinhole with COLMAP's radial-tangential distortion;
+// the fisheye and panoramic ones are not.
+void read_distortion(const FrameReader& reader, LensDistortion& distortion) {
+  std::string model = "OPENCV";  // nerfstudio's default
+  if (const Field field = reader.find("camera_model")) {
+    if (!field.value->is_string()) reader.fail(field.where + " must be a string");
+    model = field.value->get<std::string>();
+  }
+  const bool pinhole = model == "PINHOLE" || model == "SIMPLE_PINHOLE";
+  if (!pinhole && model != "OPENCV")
+    reader.fail(reader.find("camera_model").where + " is " + model +
+                ", which is not supported: PINHOLE, SIMPLE_PINHOLE and OPENCV are (undistort fisheye "
+                "or panoramic images first, e.g. with COLMAP's image_undistorter)");
+  const auto coefficient = [&](const char* key) {
+    const Field field = reader.find(key);
+    return field ? reader.finite_number(field) : 0.0;
+  };
+  distortion = {coefficient("k1"), coefficient("k2"), coefficient("p1"), coefficient("p2")};
+  for (const char* unsupported : {"k3", "k4"})
+    if (coefficient(unsupported) != 0)
+      reader.fail_here(std::string("\"") + unsupported +
+                       "\" is not 0: OPENCV's k1, k2, p1, p2 are supported, higher radial terms are not");
+  if (pinhole && !distortion.is_identity())
+    reader.fail_here("camera model " + model + " has no lens distortion, but k1, k2, p1 or p2 is not 0");
+}
+
 fs::path resolve_image_path(const fs::path& json_file, const std::string& file_path) {
   fs::path path = (json_file.parent_path() / file_path).lexically_normal();
   if (!fs::path(file_path).has_extension()) path += kDefaultImageExtension;
@@ -273,6 +299,12 @@ std::vector<CameraFrame> load_transforms(const std::filesystem::path& file,
     read_intrinsics(reader, size, intrinsics);
     out.camera = camera_from_blender(camera_to_world_gl.m, intrinsics.fx, intrinsics.fy, intrinsics.cx,
                                      intrinsics.cy, size.width, size.height);
+    read_distortion(reader, out.distortion);
+    if (const auto mask = frame.find("mask_path"); mask != frame.end()) {
+      if (!mask->is_string() || mask->get_ref<const std::string&>().empty())
+        reader.fail_here("\"mask_path\" must be a non-empty string");
+      out.mask_path = (file.parent_path() / mask->get_ref<const std::string&>()).lexically_normal();
+    }
     if (options.width > 0) out.camera = out.camera.resized(options.width, options.height);
     result.push_back(std::move(out));
   }

@@ -1,0 +1,45 @@
+// nerfstudio folders: one transforms.json for every view (what ns-process-data writes, and
+// what many captures are shared as), with intrinsics for the file or per frame, OpenCV lens
+// distortion and optional per-image masks. The split is ours, as for COLMAP data.
+#include <algorithm>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "splat/core/error.hpp"
+#include "splat/data/dataset_loading.hpp"
+#include "splat/data/transforms_json.hpp"
+
+namespace splat::dataset_detail {
+
+namespace fs = std::filesystem;
+
+Dataset load_nerfstudio(const fs::path& folder, const DatasetOptions& options) {
+  const fs::path file = folder / "transforms.json";
+  std::vector<CameraFrame> frames = load_transforms(file);
+  // Name order decides the split, whatever order the file lists the frames in.
+  std::stable_sort(frames.begin(), frames.end(),
+                   [](const CameraFrame& a, const CameraFrame& b) { return a.image_path < b.image_path; });
+  // A view's name names its renders and scores.
+  std::map<std::string, const CameraFrame*> by_name;
+  for (const CameraFrame& frame : frames)
+    if (const auto [it, added] = by_name.emplace(frame.name, &frame); !added)
+      throw InputError(file, "two frames are named " + frame.name + " (" + it->second->image_path.string() +
+                                 " and " + frame.image_path.string() + "): view names must be unique");
+
+  std::vector<ImageSize> sizes;
+  for (const CameraFrame& frame : frames) sizes.push_back({frame.camera.width, frame.camera.height});
+  const int downscale = chosen_downscale(sizes, options);
+  check_dataset_fits_in_memory(folder, sizes, downscale);
+
+  std::vector<DatasetView> views(frames.size());
+  for_each_in_parallel(frames.size(), [&](std::size_t i) {
+    views[i].name = frames[i].name;
+    load_view(view_source(frames[i], file), downscale, options.background, views[i]);
+  });
+  Dataset dataset = split_by_holdout(std::move(views), options, file);
+  dataset.downscale = downscale;
+  return dataset;
+}
+
+}  // namespace splat::dataset_detail
