@@ -25,13 +25,21 @@ Evaluation score_views(const std::vector<DatasetView>& views, const std::functio
     Image image = render(camera);
     e.view_render_ms.push_back(
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-    const double view_psnr = psnr(image, view.image);
+    // A masked view is scored over the pixels its mask keeps; SSIM and the half-fitted PSNR
+    // see both images through the mask, as the masked loss does.
+    const bool has_mask = !view.mask.empty();
+    const double view_psnr = has_mask ? masked_psnr(image, view.image, view.mask) : psnr(image, view.image);
     e.view_psnr.push_back(view_psnr);
     psnr_sum += view_psnr;
     if (measures == Measures::kAll) {
-      ssim_sum += ssim(image, view.image);
+      const Image render_seen = has_mask ? masked(image, view.mask) : Image();
+      const Image photo_seen = has_mask ? masked(view.image, view.mask) : Image();
+      const Image& render_scored = has_mask ? render_seen : image;
+      const Image& photo_scored = has_mask ? photo_seen : view.image;
+      ssim_sum += ssim(render_scored, photo_scored);
       // An exact half scores +inf; a finite stand-in keeps the mean a number.
-      if (image.width >= 2) fitted_sum += std::min(half_fitted_psnr(image, view.image), kFittedPsnrCeiling);
+      if (image.width >= 2)
+        fitted_sum += std::min(half_fitted_psnr(render_scored, photo_scored), kFittedPsnrCeiling);
     }
     if (renders) renders->push_back(std::move(image));
   }

@@ -113,10 +113,19 @@ StepResult NerfTrainer::step() {
   const std::size_t batch = std::size_t(config_.rays_per_batch);
   rays_.resize(batch);
   targets_.resize(3 * batch);
+  // Pixels a view's mask leaves out are drawn again (a few times at most: a mask that keeps
+  // almost nothing must not stall the step), so they are never trained on.
+  constexpr int kMaxDraws = 16;
   for (std::size_t r = 0; r < batch; ++r) {
-    const DatasetView& view = dataset_.train[rng_() % dataset_.train.size()];
-    const int x = int(rng_() % std::uint32_t(view.image.width));
-    const int y = int(rng_() % std::uint32_t(view.image.height));
+    const DatasetView* drawn = nullptr;
+    int x = 0, y = 0;
+    for (int draw = 1;; ++draw) {
+      drawn = &dataset_.train[rng_() % dataset_.train.size()];
+      x = int(rng_() % std::uint32_t(drawn->image.width));
+      y = int(rng_() % std::uint32_t(drawn->image.height));
+      if (drawn->mask.empty() || drawn->mask.at(x, y, 0) >= 0.5f || draw == kMaxDraws) break;
+    }
+    const DatasetView& view = *drawn;
     rays_[r] = camera_ray(view.camera, float(x), float(y));
     for (int c = 0; c < 3; ++c) targets_[3 * r + c] = view.image.at(x, y, c);
   }

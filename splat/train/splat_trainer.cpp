@@ -92,16 +92,32 @@ std::size_t SplatTrainer::next_view() {
   return view;
 }
 
-const Image& SplatTrainer::training_image(std::size_t view, int divisor) {
-  const Image& full = dataset_.train[view].image;
+namespace {
+
+// `full` (view `view` of `views` views) at 1/divisor of its size, from `cache` ([divisor][view])
+// or made and kept there.
+const Image& reduced_image(const Image& full, std::size_t view, std::size_t views, int divisor,
+                           std::vector<std::vector<Image>>& cache) {
   if (divisor <= 1) return full;
-  if (reduced_images_.size() <= std::size_t(divisor)) reduced_images_.resize(std::size_t(divisor) + 1);
-  std::vector<Image>& images = reduced_images_[std::size_t(divisor)];
-  if (images.empty()) images.resize(dataset_.train.size());
+  if (cache.size() <= std::size_t(divisor)) cache.resize(std::size_t(divisor) + 1);
+  std::vector<Image>& images = cache[std::size_t(divisor)];
+  if (images.empty()) images.resize(views);
   Image& reduced = images[view];
   if (reduced.width == 0)
     reduced = resample_area(full, std::max(1, full.width / divisor), std::max(1, full.height / divisor));
   return reduced;
+}
+
+}  // namespace
+
+const Image& SplatTrainer::training_image(std::size_t view, int divisor) {
+  return reduced_image(dataset_.train[view].image, view, dataset_.train.size(), divisor, reduced_images_);
+}
+
+const Image* SplatTrainer::training_mask(std::size_t view, int divisor) {
+  const Image& full = dataset_.train[view].mask;
+  if (full.empty()) return nullptr;
+  return &reduced_image(full, view, dataset_.train.size(), divisor, reduced_masks_);
 }
 
 double SplatTrainer::schedule_iteration(int iteration) const {
@@ -224,7 +240,8 @@ Camera SplatTrainer::differentiate_views(int iteration, int resolution_divisor, 
                                        : dataset_.train[view].camera.resized(target.width, target.height);
     const ViewStepResult step =
         view_step_.run(model_, corrections_.camera(view, recorded), target, settings,
-                       corrections_.exposure(view, iteration, schedule_iteration(iteration)));
+                       corrections_.exposure(view, iteration, schedule_iteration(iteration)),
+                       training_mask(view, resolution_divisor));
     result.timings += step.timings;
     if (!step.differentiated) throw TrainingDiverged(iteration, "loss");
     batch_.add(v, step.loss, view_step_);

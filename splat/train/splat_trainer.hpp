@@ -106,8 +106,10 @@ class SplatTrainer {
 
  private:
   std::size_t next_view();
-  // The training image of view `view` at 1/divisor of its size (built once, then kept).
+  // The training image of view `view` at 1/divisor of its size, and its mask at that size
+  // (null when the view has none); each built once, then kept.
   const Image& training_image(std::size_t view, int divisor);
+  const Image* training_mask(std::size_t view, int divisor);
   GroupLearningRates learning_rates() const;
   // Adam's decays: the official 0.9 / 0.999, raised to the batch's size.
   AdamSettings adam_settings() const;
@@ -149,6 +151,7 @@ class SplatTrainer {
   int active_sh_degree_ = 0;
   double time_budget_fraction_ = 0;
   std::vector<std::vector<Image>> reduced_images_;  // [divisor][view], empty until needed
+  std::vector<std::vector<Image>> reduced_masks_;   // the same for the views' masks
 
   std::vector<std::size_t> batch_views_;  // the step's views, in batch order
   ViewStep view_step_;                    // one view's render, loss and backward

@@ -10,7 +10,7 @@ using training::Clock;
 using training::ms_since;
 
 ViewStepResult ViewStep::run(const GaussianModel& model, const Camera& camera, const Image& target,
-                             const ViewStepSettings& settings, const ViewExposure& exposure) {
+                             const ViewStepSettings& settings, const ViewExposure& exposure, const Image* mask) {
   ViewStepResult result;
   auto start = Clock::now();
   rasterizer_.render(model, camera, settings.render, render_);
@@ -21,8 +21,9 @@ ViewStepResult ViewStep::run(const GaussianModel& model, const Camera& camera, c
 
   start = Clock::now();
   if (exposure.maps) exposure.maps->apply(exposure.view, render_.color, compensated_);
-  result.loss = photometric_loss(exposure.maps ? compensated_ : render_.color, target, settings.ssim_weight,
-                                 &v_image_, ssim_scratch_);
+  const Image& scored = exposure.maps ? compensated_ : render_.color;
+  result.loss = mask ? masked_photometric_loss(scored, target, *mask, settings.ssim_weight, &v_image_, masked_scratch_)
+                     : photometric_loss(scored, target, settings.ssim_weight, &v_image_, ssim_scratch_);
   if (exposure.maps) exposure.maps->backward_and_step(exposure.view, render_.color, v_image_, exposure.lr);
   result.timings.loss = ms_since(start);
   if (settings.stop_on_non_finite_loss && !std::isfinite(result.loss.loss)) return result;

@@ -10,6 +10,7 @@
 #include "splat/core/camera.hpp"
 #include "splat/core/image.hpp"
 #include "splat/gaussians/gaussian_model.hpp"
+#include "splat/optim/masked_loss.hpp"
 #include "splat/optim/photometric_loss.hpp"
 #include "splat/raster/rasterizer.hpp"
 #include "splat/train/exposure_compensation.hpp"
@@ -45,9 +46,11 @@ struct ViewStepResult {
 class ViewStep {
  public:
   // Renders `model` from `camera`, scores the render against `target` (the photograph at
-  // the camera's image size) and back-propagates the loss into gradients().
+  // the camera's image size) over the pixels `mask` keeps (masked_loss.hpp; null: all) and
+  // back-propagates the loss into gradients().
   ViewStepResult run(const GaussianModel& model, const Camera& camera, const Image& target,
-                     const ViewStepSettings& settings, const ViewExposure& exposure = {});
+                     const ViewStepSettings& settings, const ViewExposure& exposure = {},
+                     const Image* mask = nullptr);
 
   // The last run's render and gradients (its statistics for the density strategy included).
   const RenderResult& render() const { return render_; }
@@ -63,6 +66,7 @@ class ViewStep {
   Image v_image_;       // ∂L/∂(the render)
   Image compensated_;   // the render through the view's exposure map
   SsimScratch ssim_scratch_;
+  MaskedLossScratch masked_scratch_;
 };
 
 }  // namespace splat
