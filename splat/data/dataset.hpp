@@ -1,5 +1,5 @@
 #pragma once
-// Training datasets: Blender / NeRF-synthetic folders and COLMAP folders, detected
+// Training datasets: Blender / NeRF-synthetic, nerfstudio and COLMAP folders, detected
 // automatically (docs/DESIGN.md, "--data").
 #include <filesystem>
 #include <optional>
@@ -63,8 +63,9 @@ struct Dataset {
 };
 
 // Loads `folder`: a Blender folder (transforms_train.json, and transforms_test.json or
-// transforms_val.json) or a COLMAP folder (sparse/0/{cameras,images,points3D}.{bin,txt} and
-// images/). COLMAP: PINHOLE and SIMPLE_PINHOLE as they are; SIMPLE_RADIAL, RADIAL and OPENCV
+// transforms_val.json), a nerfstudio folder (transforms.json: every view, OPENCV lenses and
+// masks; split as COLMAP data) or a COLMAP folder (sparse/0/{cameras,images,points3D}.{bin,txt}
+// and images/). COLMAP: PINHOLE and SIMPLE_PINHOLE as they are; SIMPLE_RADIAL, RADIAL and OPENCV
 // undistorted on load to a pinhole camera with the same focal length and principal point;
 // test views are every 8th image in name order (i % 8 == 0), or as DatasetOptions::holdout_every
 // says. Throws InputError naming the file on missing or unreadable images, images of the wrong
