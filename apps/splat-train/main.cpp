@@ -62,6 +62,8 @@ on as transforms files (DIR/cameras_train.json, DIR/cameras_test.json) that spla
                         2000 nerf; 0 = end only)
   --checkpoint-every N  write DIR/checkpoint.ckpt every N iterations (default 5000; 0 = off)
   --resume PATH         continue from a checkpoint file or a folder holding checkpoint.ckpt
+  --snapshot-every S    every S seconds, write the model so far to DIR/snapshot.ply (.nerf)
+                        for splat-viewer --watch DIR (removed when the final model is written)
   --config FILE         JSON with any settings of config.json (applied before the options)
   --quiet               no progress output
 Ctrl-C saves a checkpoint and a valid model.ply, then exits with status 130.
@@ -103,7 +105,7 @@ int train_main(int argc, char** argv, splat::ProcessGroup* ranks) {
   splat::cli::ArgParser args(argc, argv,
                              {"data", "out", "method", "strategy", "iters", "max-seconds", "bg", "seed",
                               "threads", "downscale", "train-views", "holdout-every", "max-gaussians", "batch",
-                              "test-every", "checkpoint-every", "resume", "config"},
+                              "test-every", "checkpoint-every", "resume", "config", "snapshot-every"},
                              {"help", "quiet", "refine-poses", "exposure-compensation"});
   if (args.has("help")) {
     std::fputs(kUsage, stdout);
@@ -155,6 +157,10 @@ int train_main(int argc, char** argv, splat::ProcessGroup* ranks) {
   }
   if (auto r = args.value("resume")) options.resume = *r;
   options.quiet = args.has("quiet") || (ranks && ranks->rank() != 0);  // rank 0 reports
+  if (auto s = args.number("snapshot-every")) {
+    if (!(*s > 0)) throw splat::ArgumentError("--snapshot-every must be > 0 seconds");
+    options.snapshot_seconds = *s;
+  }
   options.group = ranks;
   return splat::cli::run_train_command(options);
 }

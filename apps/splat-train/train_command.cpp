@@ -99,6 +99,10 @@ class TrainingRun final : public TrainingObserver {
   // A test point's scores, added to its history entry.
   void add_test_scores(nlohmann::json& entry, const Evaluation& evaluation) const;
   std::filesystem::path model_path() const { return options_.out / trainer_->model_file_name(); }
+  // Where --snapshot-every writes: "snapshot" with the model's extension.
+  std::filesystem::path snapshot_path() const {
+    return options_.out / ("snapshot" + std::filesystem::path(trainer_->model_file_name()).extension().string());
+  }
   // Whether this process writes the outputs: alone, or rank 0 of a data-parallel run.
   bool leads() const { return options_.group == nullptr || options_.group->rank() == 0; }
   // Waits for every rank (a data-parallel run ends together, after rank 0's outputs).
@@ -117,6 +121,7 @@ class TrainingRun final : public TrainingObserver {
   WindowAverages whole_run_;  // sums over every iteration this process ran
   double resumed_seconds_ = 0;  // training time before this process (when resuming)
   double last_loss_ = 0;        // loss of the last iteration
+  double next_snapshot_seconds_ = 0;  // wall time of the next --snapshot-every write
 };
 
 void TrainingRun::on_step(const StepResult& step, const LoopState& state) {
@@ -136,6 +141,12 @@ void TrainingRun::on_step(const StepResult& step, const LoopState& state) {
   }
   if (leads() && step_reaches_multiple(it, views, schedule_.checkpoint_interval))
     trainer_->save_checkpoint(options_.out / kCheckpointName);
+  if (leads() && options_.snapshot_seconds > 0 && state.wall_seconds >= next_snapshot_seconds_) {
+    // The viewer's cameras with the first one ([ ] step through the views trained on).
+    if (next_snapshot_seconds_ == 0) write_view_cameras(*trainer_, dataset_, options_.out);
+    trainer_->write_model(snapshot_path());
+    next_snapshot_seconds_ = state.wall_seconds + options_.snapshot_seconds;
+  }
   if (!options_.quiet) {
     ProgressSnapshot s;
     s.iteration = it;
@@ -317,6 +328,8 @@ void TrainingRun::write_outputs(const std::string& stopped_by, double train_seco
   }
   const fs::path model_file = model_path();
   trainer_->write_model(model_file);
+  std::error_code ignored;  // a watching viewer has moved on to the model by now
+  fs::remove(snapshot_path(), ignored);
   const std::vector<fs::path> camera_files = write_view_cameras(*trainer_, dataset_, options_.out);
   const nlohmann::json m = metrics(stopped_by, train_seconds, fs::file_size(model_file));
   write_json(options_.out / "metrics.json", m);

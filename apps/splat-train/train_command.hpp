@@ -20,6 +20,9 @@ struct TrainCommandOptions {
   DatasetOptions dataset;
   int threads = 0;               // 0 = all cores
   bool quiet = false;            // no progress bar / lines
+  // > 0: every this many seconds of wall time, the model so far replaces DIR/snapshot.ply
+  // (or .nerf) for splat-viewer --watch; removed once the final model is written.
+  double snapshot_seconds = 0;
   // The ranks of a data-parallel run (train/mpi_process_group.hpp), or null alone. Rank 0
   // reports, scores and writes every output; the others train in step with it, quietly.
   ProcessGroup* group = nullptr;

@@ -7,17 +7,24 @@
 #include "apps/splat-viewer/panel_model.hpp"
 #include "splat/core/error.hpp"
 #include "apps/splat-viewer/viewer_app.hpp"
+#include "apps/splat-viewer/watched_model.hpp"
 
 namespace {
 
 constexpr const char* kUsage = R"(usage: splat-viewer FILE [FILE2] [options]
+       splat-viewer --watch DIR [options]
 
 Shows a Gaussian model (.ply, .splat, .spz) or a NeRF (.nerf) in a window, rendered by the CPU rasterizer
 (or the NeRF renderer) every frame; with two files, both side by side under one camera.
+With --watch, the model a running splat-train writes into DIR (its --out folder, trained
+with --snapshot-every S), followed as it improves: the newest of DIR/snapshot.ply and
+DIR/model.ply (or .nerf), looked for twice a second; waits up to 10 minutes for the first.
 
 Controls: left drag orbit, right/middle drag pan, scroll zoom, W A S D Q E fly, R reset,
 [ ] dataset views, + - SH degree, B background, P screenshot, H help, Esc quit.
 
+  --watch DIR           follow a running training's model (see above); with no --cameras,
+                        DIR/cameras_train.json when it is there
   --cameras FILE        transforms JSON: start at its view, step through them with [ ]
   --view K              the view of --cameras to start at (default 0)
   --width W --height H  size of one panel (default: the cameras' image size, else 800x600)
@@ -37,24 +44,31 @@ int main(int argc, char** argv) {
   return splat::cli::run_main([&] {
     splat::cli::ArgParser args(argc, argv,
                                {"cameras", "view", "width", "height", "bg", "sh-degree", "fps", "screenshot",
-                                "bench-orbit"},
+                                "bench-orbit", "watch"},
                                {"help", "screenshot-overlay", "show-help"});
     if (args.has("help")) {
       std::fputs(kUsage, stdout);
       return 0;
     }
     const auto& files = args.positionals();
-    if (files.empty() || files.size() > 2)
+    const std::optional<std::string> watch = args.value("watch");
+    if (watch && !files.empty())
+      throw splat::ArgumentError("--watch shows the model in its folder; give no model files with it");
+    if (!watch && (files.empty() || files.size() > 2))
       throw splat::ArgumentError("expected one or two model files, got " + std::to_string(args.positionals().size()) +
                                  " (see --help)");
     splat::viewer::ViewerOptions options;
     options.files.assign(files.begin(), files.end());
+    if (watch) options.files = {*watch};
 
     const auto width = args.integer("width"), height = args.integer("height");
     if (width.has_value() != height.has_value()) throw splat::ArgumentError("give both --width and --height, or neither");
     if (width && (*width < 16 || *height < 16 || *width > 8192 || *height > 8192))
       throw splat::ArgumentError("--width and --height must be between 16 and 8192");
-    if (auto file = args.value("cameras")) {
+    std::optional<std::string> cameras_file = args.value("cameras");
+    if (watch && !cameras_file && std::filesystem::exists(std::filesystem::path(*watch) / "cameras_train.json"))
+      cameras_file = (std::filesystem::path(*watch) / "cameras_train.json").string();
+    if (auto file = cameras_file) {
       splat::TransformsOptions transforms;
       if (width) transforms.width = *width, transforms.height = *height;
       options.cameras = splat::load_transforms(*file, transforms);
@@ -88,6 +102,14 @@ int main(int argc, char** argv) {
 
     // Every model loads before a window opens: bad input never leaves one behind.
     std::vector<std::unique_ptr<splat::viewer::PanelModel>> models;
+    if (watch) {
+      constexpr double kFirstModelWaitSeconds = 600;
+      splat::viewer::wait_for_first_model(*watch, kFirstModelWaitSeconds);
+      auto watched = std::make_unique<splat::viewer::WatchedModel>(*watch);
+      splat::viewer::WatchedModel* follow = watched.get();
+      models.push_back(std::move(watched));
+      return splat::viewer::run_viewer(options, std::move(models), follow);
+    }
     for (const auto& file : options.files) models.push_back(splat::viewer::load_panel_model(file));
     return splat::viewer::run_viewer(options, std::move(models));
   });

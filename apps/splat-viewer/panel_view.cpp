@@ -10,7 +10,7 @@ bool ViewKey::operator==(const ViewKey& o) const {
   return a.camera_from_world_rotation == b.camera_from_world_rotation &&
          a.camera_from_world_translation == b.camera_from_world_translation && a.fx == b.fx && a.fy == b.fy &&
          a.cx == b.cx && a.cy == b.cy && a.width == b.width && a.height == b.height &&
-         settings.sh_degree == o.settings.sh_degree &&
+         settings.sh_degree == o.settings.sh_degree && model_version == o.model_version &&
          std::memcmp(settings.background, o.settings.background, sizeof(settings.background)) == 0;
 }
 

@@ -14,6 +14,7 @@ namespace splat::viewer {
 struct ViewKey {
   Camera camera;
   ViewSettings settings;
+  std::uint64_t model_version = 0;  // a watched model (watched_model.hpp) replaced counts up
   bool operator==(const ViewKey& other) const;
 };
 

@@ -20,6 +20,7 @@
 #include "splat/core/error.hpp"
 #include "splat/data/image_io.hpp"
 #include "apps/splat-viewer/view_controller.hpp"
+#include "apps/splat-viewer/watched_model.hpp"
 
 namespace splat::viewer {
 
@@ -111,7 +112,8 @@ ViewController start_view(const ViewerOptions& options, PanelModel& model) {
 
 }  // namespace
 
-int run_viewer(const ViewerOptions& options, std::vector<std::unique_ptr<PanelModel>> models) {
+int run_viewer(const ViewerOptions& options, std::vector<std::unique_ptr<PanelModel>> models,
+               WatchedModel* watched) {
   const int panel_count = int(models.size());
   const int width = options.width, height = options.height;
   Window window(width * panel_count, height,
@@ -138,6 +140,7 @@ int run_viewer(const ViewerOptions& options, std::vector<std::unique_ptr<PanelMo
   std::string message;
   auto last_move = Clock::now() - std::chrono::seconds(10);
   auto last_frame = Clock::now();
+  auto last_watch = Clock::now();
   const auto started = Clock::now();
   std::optional<OrbitBenchmark> benchmark;
   if (options.bench_seconds > 0) benchmark.emplace(options.bench_seconds, panels);
@@ -171,9 +174,15 @@ int run_viewer(const ViewerOptions& options, std::vector<std::unique_ptr<PanelMo
     animating = benchmark || options.screenshot || input.animating;
     if (input.moved) last_move = Clock::now();
 
+    // A running training's newer model (--watch): shown from the next frame on.
+    if (watched && seconds_since(last_watch) > 0.5) {
+      last_watch = Clock::now();
+      if (watched->refresh() || message.empty()) message = "watching: " + watched->status();
+    }
+
     // Each panel: pick up a finished frame, ask for the next.
     const bool moving = seconds_since(last_move) < 0.15;
-    const ViewKey key{view.camera(width, height), settings};
+    const ViewKey key{view.camera(width, height), settings, watched ? watched->version() : 0};
     for (PanelView* p : panels) p->update(key, moving);
 
     // Draw each panel's texture, then (unless a bare screenshot) the overlay.

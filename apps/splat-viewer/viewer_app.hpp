@@ -25,9 +25,13 @@ struct ViewerOptions {
   double target_fps = 30;                        // what reduced resolution aims to hold
 };
 
+class WatchedModel;
+
 // Opens the window and runs until it is closed (or the screenshot / benchmark is done).
 // `models` are loaded already, one per file. Returns the exit status; Error when no window
-// can be opened (no display).
-int run_viewer(const ViewerOptions& options, std::vector<std::unique_ptr<PanelModel>> models);
+// can be opened (no display). With `watched` (--watch; it is models[0]), the window looks for
+// a newer model twice a second and shows it.
+int run_viewer(const ViewerOptions& options, std::vector<std::unique_ptr<PanelModel>> models,
+               WatchedModel* watched = nullptr);
 
 }  // namespace splat::viewer

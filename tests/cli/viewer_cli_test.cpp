@@ -3,6 +3,9 @@
 // (a NeRF among them, refined to full resolution), and bad input exits 2 without a window.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <thread>
+
 #include <nlohmann/json.hpp>
 
 #include "tests/cli_support.hpp"
@@ -119,6 +122,57 @@ TEST(ViewerCli, BadInputExitsTwoNamingTheFileWithoutAWindow) {
   EXPECT_NE(view.err.find("--view 99"), std::string::npos) << view.err;
   const auto none = test::run_command(std::string(SPLAT_VIEWER_EXE), dir);
   EXPECT_EQ(none.exit_code, 2);
+}
+
+}  // namespace
+}  // namespace splat
+
+namespace splat {
+namespace {
+
+// splat-train --snapshot-every writes the model so far while it runs (and the cameras with
+// the first), removing it once model.ply is written; splat-viewer --watch shows what is there.
+TEST(ViewerCli, WatchShowsTheSnapshotsOfARunningTraining) {
+  const fs::path dir = test::scratch_dir("viewer_cli_watch");
+  test::write_demo_dataset(dir / "data", 8, 2, 64, 2000);
+  const fs::path out = dir / "out";
+  // In the background, long enough to be seen running; --max-seconds ends it.
+  const std::string train = std::string(SPLAT_TRAIN_EXE) + " --data " + (dir / "data").string() + " --out " +
+                            out.string() + " --iters 100000 --max-seconds 8 --snapshot-every 0.5 --quiet --threads 1";
+  ASSERT_EQ(std::system((train + " > " + (dir / "train.log").string() + " 2>&1 &").c_str()), 0);
+  bool seen = false;
+  for (int i = 0; i < 200 && !seen; ++i) {  // up to 20 s
+    seen = fs::exists(out / "snapshot.ply") && fs::exists(out / "cameras_train.json");
+    if (!seen) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_TRUE(seen) << test::read_file(dir / "train.log");
+  const fs::path shot = dir / "watch.png";
+  const auto r = test::run_command(under_xvfb(std::string(SPLAT_VIEWER_EXE) + " --watch " + out.string() +
+                                                  " --width 96 --height 64 --screenshot " + shot.string(), 181),
+                                   dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err << r.out;
+  EXPECT_EQ(read_image(shot).width, 96);
+  for (int i = 0; i < 600 && !fs::exists(out / "metrics.json"); ++i)  // up to 60 s
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(fs::exists(out / "metrics.json")) << test::read_file(dir / "train.log");
+  EXPECT_TRUE(fs::exists(out / "model.ply"));
+  EXPECT_FALSE(fs::exists(out / "snapshot.ply"));  // the final model replaces it
+
+  // Without a display: the folder is checked first, and models cannot be given with it.
+  for (const auto& [args, expected] :
+       std::vector<std::pair<std::string, std::string>>{
+           {"--watch " + (dir / "nowhere").string(), "nowhere: no such folder"},
+           {"--watch " + (dir / "train.log").string(), "train.log: is not a folder"},
+           {"--watch " + out.string() + " " + (out / "model.ply").string(), "give no model files with it"}}) {
+    const auto bad = test::run_command("env -u DISPLAY " + std::string(SPLAT_VIEWER_EXE) + " " + args, dir);
+    EXPECT_EQ(bad.exit_code, 2) << args;
+    EXPECT_NE(bad.err.find(expected), std::string::npos) << bad.err;
+  }
+  const auto zero = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --data " + (dir / "data").string() +
+                                          " --out " + (dir / "o2").string() + " --snapshot-every 0",
+                                      dir);
+  EXPECT_EQ(zero.exit_code, 2);
+  EXPECT_NE(zero.err.find("--snapshot-every must be > 0 seconds"), std::string::npos) << zero.err;
 }
 
 }  // namespace
