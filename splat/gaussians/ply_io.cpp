@@ -16,7 +16,8 @@
 #include "splat/core/error.hpp"
 #include "splat/core/file_bytes.hpp"
 #include "splat/gaussians/byte_quantization.hpp"
-#include "splat/gaussians/ply_header.hpp"
+#include "splat/core/ply_ascii.hpp"
+#include "splat/core/ply_header.hpp"
 
 namespace splat {
 namespace {
@@ -239,48 +240,6 @@ GaussianModel read_binary(std::ifstream& in, std::uint64_t file_size, const ply:
   return model;
 }
 
-// Walks ASCII data line by line; blank lines between rows are skipped.
-class LineCursor {
- public:
-  explicit LineCursor(std::string_view text) : text_(text) {}
-  bool next(std::string_view& line) {
-    while (pos_ < text_.size()) {
-      std::size_t end = text_.find('\n', pos_);
-      if (end == std::string_view::npos) end = text_.size();
-      line = text_.substr(pos_, end - pos_);
-      pos_ = end + 1;
-      if (line.find_first_not_of(" \t\r") != std::string_view::npos) return true;
-    }
-    return false;
-  }
-  std::size_t remaining() const { return pos_ < text_.size() ? text_.size() - pos_ : 0; }
-
- private:
-  std::string_view text_;
-  std::size_t pos_ = 0;
-};
-
-// Splits `line` into at most `max_words` + 1 words (one extra to detect surplus values).
-std::size_t split_values(std::string_view line, std::vector<std::string_view>& words,
-                         std::size_t max_words) {
-  words.clear();
-  std::size_t i = 0;
-  while (i < line.size() && words.size() <= max_words) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-    const std::size_t start = i;
-    while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
-    if (i > start) words.push_back(line.substr(start, i - start));
-  }
-  return words.size();
-}
-
-template <typename T>
-bool parse_number(std::string_view word, T& value) {
-  if (word.size() > 1 && word[0] == '+') word.remove_prefix(1);  // from_chars rejects '+'
-  const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), value);
-  return ec == std::errc() && end == word.data() + word.size();
-}
-
 GaussianModel read_ascii(std::ifstream& in, std::uint64_t file_size, const ply::Header& header,
                          const VertexLayout& layout, const std::filesystem::path& file) {
   // The text is bounded by the real file size, so this allocation is as large as the file.
@@ -289,7 +248,7 @@ GaussianModel read_ascii(std::ifstream& in, std::uint64_t file_size, const ply::
   in.read(text.data(), static_cast<std::streamsize>(text.size()));
   if (static_cast<std::size_t>(in.gcount()) != text.size())
     throw InputError(file, "read error in the ASCII data");
-  LineCursor cursor(text);
+  ply::LineCursor cursor(text);
   std::string_view line;
 
   // ASCII rows are one line each whatever their properties, lists included.
@@ -326,7 +285,7 @@ GaussianModel read_ascii(std::ifstream& in, std::uint64_t file_size, const ply::
     if (!cursor.next(line))
       throw InputError(file, "ASCII data is truncated: it ends after " + std::to_string(i) +
                                  " of " + std::to_string(n) + " vertices");
-    const std::size_t count = split_values(line, words, values_per_row);
+    const std::size_t count = ply::split_values(line, words, values_per_row);
     if (count != values_per_row)
       throw InputError(file, "ASCII vertex " + std::to_string(i) + " has " +
                                  (count > values_per_row ? "more than " : "") +
@@ -337,12 +296,12 @@ GaussianModel read_ascii(std::ifstream& in, std::uint64_t file_size, const ply::
       bool ok;
       if (const Target* t = by_index[j]) {
         float value;
-        ok = parse_number(words[j], value);
+        ok = ply::parse_number(words[j], value);
         if (ok && !keep_value(p, value)) throw_not_finite(file, i, p, value);
         if (ok) t->dst[i * t->stride] = value;
       } else {
         double ignored;
-        ok = parse_number(words[j], ignored);
+        ok = ply::parse_number(words[j], ignored);
       }
       if (!ok)
         throw InputError(file, "ASCII vertex " + std::to_string(i) + ", property '" + p.name +

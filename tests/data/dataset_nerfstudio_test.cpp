@@ -121,6 +121,22 @@ TEST(DatasetNerfstudio, MasksFollowTheirImagesThroughUndistortionAndDownscale) {
   EXPECT_FLOAT_EQ(cut.mask.at(cut.mask.width - 1, cut.mask.height / 2, 0), 0.0f);  // left out
 }
 
+TEST(DatasetNerfstudio, PointsFromPlyFilePath) {
+  const fs::path dir = write_nerfstudio_folder("nerfstudio_points", 3, kLens, false);
+  test::write_text(dir / "sparse_pc.ply", "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                                          "property float z\nproperty uint8 red\nproperty uint8 green\n"
+                                          "property uint8 blue\nend_header\n1 2 3 255 0 0\n-1 0.5 2 0 255 0\n");
+  std::string json = test::read_file(dir / "transforms.json");
+  json.insert(1, R"("ply_file_path":"sparse_pc.ply",)");
+  test::write_text(dir / "transforms.json", json);
+  const Dataset d = load_dataset(dir);
+  ASSERT_TRUE(d.points.has_value());
+  EXPECT_EQ(d.points->positions, (std::vector<float>{1, 2, 3, -1, 0.5f, 2}));
+  EXPECT_EQ(d.points->colors, (std::vector<float>{1, 0, 0, 0, 1, 0}));
+  fs::remove(dir / "sparse_pc.ply");
+  EXPECT_THROW(load_dataset(dir), InputError);
+}
+
 std::string load_error(const fs::path& dir) {
   try {
     load_dataset(dir);

@@ -1,4 +1,4 @@
-#include "splat/gaussians/ply_header.hpp"
+#include "splat/core/ply_header.hpp"
 
 #include <array>
 #include <charconv>
