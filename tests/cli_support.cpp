@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <cstdlib>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -63,6 +64,21 @@ void write_demo_dataset(const std::filesystem::path& dir, int train_views, int t
   test_rig.elevation_radians = 0.7f;
   const float white[3] = {1, 1, 1};
   write_rendered_dataset(make_demo_model(gaussians), orbit_cameras(train_rig), orbit_cameras(test_rig), white, dir);
+}
+
+bool have_tool(const std::string& name) {
+  return std::system(("command -v " + name + " > /dev/null 2>&1").c_str()) == 0;
+}
+
+int video_frame_count(const std::filesystem::path& video) {
+  const std::string cmd = "ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames "
+                          "-of csv=p=0 " + video.string();
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return -1;
+  char line[64] = {};
+  const bool read = std::fgets(line, sizeof(line), pipe) != nullptr;
+  const int status = pclose(pipe);
+  return read && status == 0 ? std::atoi(line) : -1;
 }
 
 }  // namespace splat::test

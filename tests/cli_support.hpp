@@ -23,6 +23,15 @@ std::string last_line(const std::string& text);
 // A small Blender-style dataset of the demo model (`gaussians` of them) written into `dir`:
 // `train_views` on an orbit of radius 5.5 and `test_views` on one higher up, at size × size,
 // on white. What the trainer and splat-eval tests train on.
+// Whether `name` is a program on PATH.
+bool have_tool(const std::string& name);
+// The frames ffprobe decodes from the video's first stream, or -1 when it cannot read it.
+int video_frame_count(const std::filesystem::path& video);
+
+#define SPLAT_SKIP_WITHOUT_FFMPEG()                                                              \
+  if (!splat::test::have_tool("ffmpeg") || !splat::test::have_tool("ffprobe"))                   \
+  GTEST_SKIP() << "ffmpeg/ffprobe are not installed (scripts/install-deps.sh installs them)"
+
 void write_demo_dataset(const std::filesystem::path& dir, int train_views, int test_views, int size,
                         std::size_t gaussians);
 

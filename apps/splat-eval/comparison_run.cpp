@@ -26,6 +26,7 @@ void run_comparison(const EvalCommandOptions& options, const Dataset& dataset) {
     MethodRunRequest request = method_request(options, method, options.out / method);
     request.score_every = score_every;
     request.render_test_views = true;
+    request.fly_through_frames = options.fly_through_frames;
     runs.push_back(run_method(request, dataset, progress));
     if (runs.back().diverged)
       throw Error(method + " training diverged at iteration " + runs.back().json["diverged"]["iteration"].dump() +

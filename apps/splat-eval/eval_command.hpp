@@ -43,6 +43,7 @@ struct EvalCommandOptions {
   std::vector<int> stability_views = {8, 16, 32};
   std::vector<PoseNoiseLevel> pose_noise_levels = {{0.25, 0.0025}, {1.0, 0.01}, {3.0, 0.03}};
   std::vector<std::size_t> sweep_gaussians;  // the sweep's Gaussian budgets
+  int fly_through_frames = 0;                // > 0: each compared method's orbit.mp4 of that many frames
 };
 
 // Returns the process exit status: 0 done (errors are thrown, run_main prints them).

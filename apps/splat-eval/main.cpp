@@ -7,6 +7,7 @@
 
 #include "apps/common/arg_parser.hpp"
 #include "apps/common/run_main.hpp"
+#include "apps/common/video_writer.hpp"
 #include "splat/train/config_file.hpp"
 #include "apps/splat-eval/eval_command.hpp"
 #include "apps/splat-eval/eval_methods.hpp"  // read_splat_settings
@@ -81,6 +82,9 @@ can share one folder and one report. --report (with --out only) just redraws the
                               applied over each one's strategy preset; a "strategy" key in it
                               is ignored (with a warning): the method names the strategy
   --nerf-config FILE          JSON settings for the NeRF trainer (as splat-train --config)
+  --fly-through N             after training, each method's orbit of N frames around the
+                              training views' centre, OUT/<method>/orbit.mp4 (ffmpeg), shown
+                              side by side in the report (the comparison only)
   --report                    only redraw the charts and report.html in --out
   --quiet                     no progress output
 )";
@@ -118,7 +122,7 @@ int main(int argc, char** argv) {
     splat::cli::ArgParser args(argc, argv,
                                {"data", "out", "methods", "max-seconds", "eval-every-seconds", "threads",
                                 "bg", "downscale", "splat-config", "nerf-config", "sweep-gaussians",
-                                "stability-views", "stability-conditions", "pose-noise"},
+                                "stability-views", "stability-conditions", "pose-noise", "fly-through"},
                                {"help", "quiet", "stability", "report"});
     if (args.has("help")) {
       std::fputs(kUsage, stdout);
@@ -146,6 +150,15 @@ int main(int argc, char** argv) {
     const std::array<float, 3> bg = args.colour("bg").value_or(std::array<float, 3>{1, 1, 1});
     std::copy(bg.begin(), bg.end(), options.dataset.background);  // and the trainers'
     options.quiet = args.has("quiet");
+    if (auto frames = args.positive_integer("fly-through")) {
+      if (*frames > 100000) throw splat::ArgumentError("--fly-through must be 1..100000 frames");
+      if (args.has("stability") || args.value("sweep-gaussians"))
+        throw splat::ArgumentError("--fly-through is for the comparison; not with --stability or --sweep-gaussians");
+      // Known before anything trains: the videos are the run's last step.
+      if (!splat::cli::find_ffmpeg())
+        throw splat::Error("--fly-through encodes with ffmpeg, which is not installed (apt-get install ffmpeg)");
+      options.fly_through_frames = *frames;
+    }
     if (args.has("stability") && args.value("sweep-gaussians"))
       throw splat::ArgumentError("--stability and --sweep-gaussians are separate runs; give one");
     if (args.has("stability")) options.mode = splat::cli::EvalMode::kStability;

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "apps/splat-eval/eval_methods.hpp"
+#include "apps/common/fly_through.hpp"
 #include "apps/common/progress_reporter.hpp"
 #include "splat/core/error.hpp"
 #include "splat/data/image_io.hpp"
@@ -125,7 +126,21 @@ MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, Ev
   }
   const fs::path model_file = request.out_dir / trainer->model_file_name();
   trainer->write_model(model_file);
-  write_view_cameras(*trainer, dataset, request.out_dir);
+  const std::vector<fs::path> camera_files = write_view_cameras(*trainer, dataset, request.out_dir);
+  if (request.fly_through_frames > 0) {
+    progress.message("[" + request.method + "] rendering the fly-through (" + std::to_string(request.fly_through_frames) +
+                     " frames)");
+    RenderCommandOptions fly;
+    fly.model = model_file;
+    fly.cameras = camera_files.front();  // the training views: the same path for every method
+    fly.path = CameraPathKind::kOrbit;
+    fly.frames = request.fly_through_frames;
+    fly.video = request.out_dir / "orbit.mp4";
+    std::copy(request.splat_config.background, request.splat_config.background + 3, fly.background);  // --bg
+    fly.quiet = true;
+    run_fly_through(fly);
+    j["fly_through"] = fs::relative(fly.video, request.out_root).generic_string();
+  }
 
   const double final_psnr = history.back()["test_psnr"], final_ssim = history.back()["test_ssim"];
   j["history"] = history;

@@ -34,6 +34,9 @@ struct MethodRunRequest {
   // The training poses before a stability condition perturbed them: under pose refinement,
   // how far the training cameras are from these, before and after training, is measured.
   const std::vector<Camera>* true_training_cameras = nullptr;
+  // > 0: an orbit of this many frames round the training views' centre, out_dir/orbit.mp4,
+  // framed from the cameras so that every method flies the same path.
+  int fly_through_frames = 0;
 };
 
 struct MethodRun {
@@ -42,7 +45,8 @@ struct MethodRun {
   // (the best test point), drop_from_best (its PSNR minus the final), num_gaussians (splat methods),
   // num_params, model_bytes, model_file
   // (relative to out_root), iterations, train_seconds, eval_seconds, stopped_by,
-  // render_ms_per_view_median (with renders), config; or, when training diverged,
+  // render_ms_per_view_median (with renders), fly_through (the orbit video, relative to
+  // out_root, when asked for), config; or, when training diverged,
   // diverged {iteration, group} and no final scores or model.
   nlohmann::json json;
   std::vector<Image> renders;  // [test view], with render_test_views

@@ -75,6 +75,14 @@ void comparison_section(std::ostream& html, const fs::path& out, const json& r) 
          << escaped(m.at("stopped_by")) << "</td></tr>\n";
   }
   html << "</table>\n";
+  // The methods flying one path (--fly-through), side by side.
+  std::string videos;
+  for (const json& m : r.at("methods"))
+    if (m.contains("fly_through"))
+      videos += "<figure><video src=\"" + escaped(m.at("fly_through").get<std::string>()) +
+                "\" controls loop muted width=\"400\"></video><figcaption>" + escaped(method_label(m)) +
+                "</figcaption></figure>\n";
+  if (!videos.empty()) html << "<h3>Fly-throughs</h3>\n<div class=\"videos\">\n" << videos << "</div>\n";
   for (const char* name : {"psnr_vs_time", "ssim_vs_time", "psnr_vs_model_bytes", "psnr_vs_gaussians", "render_ms_vs_psnr"})
     chart(html, out, name);
   std::string panels;
@@ -241,7 +249,8 @@ fs::path write_report(const fs::path& out) {
           "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:4px 8px;"
           "text-align:right}th{background:#eee}td:first-child{text-align:left}tr.mark{background:#fff3b0}"
           ".degraded{background:#ffe0b0}.diverged,.collapsed,.failed{background:#ffc0c0}.ok{background:#d8f5d0}"
-          "img.grid{width:100%;image-rendering:pixelated}figure{margin:1em 0}</style></head><body>\n"
+          "img.grid{width:100%;image-rendering:pixelated}figure{margin:1em 0}"
+          "div.videos{display:flex;gap:1em}div.videos figure{margin:0}</style></head><body>\n"
           "<h1>splat-eval report</h1>\n";
   bool any = false;
   with_result_file(out / "results.json", [&](const json& results) { comparison_section(html, out, results), any = true; });

@@ -9,7 +9,7 @@
 
 #include "apps/common/arg_parser.hpp"
 #include "apps/common/run_main.hpp"
-#include "apps/splat-render/render_command.hpp"
+#include "apps/common/render_command.hpp"
 #include "splat/core/error.hpp"
 
 namespace {

@@ -436,6 +436,32 @@ TEST(EvalCli, GaussianSweepMarksTheSmallestModelWithinHalfADecibelOfTheBest) {
   expect_report_files_exist(out, {"charts/sweep_psnr_vs_gaussians.png"});
 }
 
+// --fly-through: each method flies the same orbit (framed from the training cameras), and the
+// report shows the videos side by side.
+TEST(EvalCli, FlyThroughsOfEveryMethodSideBySideInTheReport) {
+  SPLAT_SKIP_WITHOUT_FFMPEG();
+  const fs::path dir = test::scratch_dir("eval_cli_fly_through");
+  const fs::path data = tiny_dataset(dir);
+  const auto r = test::run_command(eval_command(dir, data, "--methods splat,nerf --max-seconds 4 --fly-through 6"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const fs::path out = dir / "out";
+  const auto j = nlohmann::json::parse(test::read_file(out / "results.json"));
+  for (const auto& m : j.at("methods")) {
+    const std::string video = m.at("fly_through");
+    EXPECT_EQ(video, m.at("method").get<std::string>() + "/orbit.mp4");
+    EXPECT_EQ(test::video_frame_count(out / video), 6) << video;
+  }
+  expect_report_files_exist(out, {"splat/orbit.mp4", "nerf/orbit.mp4"});
+  EXPECT_NE(test::read_file(out / "report.html").find("<h3>Fly-throughs</h3>"), std::string::npos);
+
+  for (const char* bad : {"--fly-through 0", "--fly-through 6 --stability", "--fly-through 6 --sweep-gaussians 100"}) {
+    const auto b = test::run_command(eval_command(dir, data, std::string("--out ") + (dir / "bad").string() + " " + bad), dir);
+    EXPECT_EQ(b.exit_code, 2) << bad;
+    EXPECT_NE(b.err.find("--fly-through"), std::string::npos) << bad << ": " << b.err;
+    EXPECT_FALSE(fs::exists(dir / "bad")) << bad;
+  }
+}
+
 TEST(EvalCli, MissingDataFolderIsNamedAndLeavesNoOutput) {
   const fs::path dir = test::scratch_dir("eval_cli_missing");
   const fs::path missing = dir / "no_such_dataset";

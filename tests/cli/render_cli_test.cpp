@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 
 #include "splat/data/image_io.hpp"
+#include "tests/cli_support.hpp"
 #include "splat/data/transforms_json.hpp"
 #include "tests/test_support.hpp"
 
@@ -119,25 +120,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool have_tool(const std::string& name) {
-  return std::system(("command -v " + name + " > /dev/null 2>&1").c_str()) == 0;
-}
-
-#define SPLAT_SKIP_WITHOUT_FFMPEG()                                                              \
-  if (!have_tool("ffmpeg") || !have_tool("ffprobe"))                                             \
-  GTEST_SKIP() << "ffmpeg/ffprobe are not installed (scripts/install-deps.sh installs them)"
-
-// The frames ffprobe decodes from the video's first stream, or -1 when it cannot read it.
-int video_frame_count(const fs::path& video) {
-  const std::string cmd = "ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames "
-                          "-of csv=p=0 " + video.string();
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return -1;
-  char line[64] = {};
-  const bool read = std::fgets(line, sizeof(line), pipe) != nullptr;
-  const int status = pclose(pipe);
-  return read && status == 0 ? std::atoi(line) : -1;
-}
+using test::have_tool;
+using test::video_frame_count;
 
 // Names in `dir` that the test did not put there (the captured output, a fake tool folder).
 std::vector<std::string> made_in(const fs::path& dir) {

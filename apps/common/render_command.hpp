@@ -28,6 +28,7 @@ struct RenderCommandOptions {
   int frames = 120;                // frames along the path
   std::filesystem::path video;     // empty: no video
   double fps = 30;                 // the video's frame rate
+  bool quiet = false;              // no progress lines (splat-eval's fly-throughs)
 };
 
 // A model splat-render draws: Gaussians or a NeRF.

@@ -1,4 +1,4 @@
-#include "apps/splat-render/render_command.hpp"
+#include "apps/common/render_command.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -8,7 +8,7 @@
 
 #include <tbb/global_control.h>
 
-#include "apps/splat-render/fly_through.hpp"
+#include "apps/common/fly_through.hpp"
 #include "splat/core/error.hpp"
 #include "splat/data/image_io.hpp"
 #include "splat/data/transforms_json.hpp"

@@ -2,7 +2,7 @@
 // splat-render --path: renders a model along a camera path (an orbit or spiral framed from the
 // model or the capture's cameras, or a path through the cameras) into a video through ffmpeg
 // and/or numbered PNGs.
-#include "apps/splat-render/render_command.hpp"
+#include "apps/common/render_command.hpp"
 
 namespace splat::cli {
 

@@ -1,4 +1,4 @@
-#include "apps/splat-render/fly_through.hpp"
+#include "apps/common/fly_through.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <optional>
 #include <vector>
 
-#include "apps/splat-render/video_writer.hpp"
+#include "apps/common/video_writer.hpp"
 #include "splat/core/atomic_file.hpp"
 #include "splat/core/error.hpp"
 #include "splat/data/camera_paths.hpp"
@@ -99,9 +99,10 @@ std::vector<Camera> path_cameras(const RenderCommandOptions& options, const Rend
   } else {
     framing = frame_from_cameras(views, content.value_or(AxisAlignedBox{glm::vec3(-1), glm::vec3(1)}));
   }
-  std::printf("%s round (%.3g, %.3g, %.3g), up (%.3g, %.3g, %.3g), %.3g away, %.0f deg above, %.0f deg field of view\n",
-              path_name(options.path), framing.center.x, framing.center.y, framing.center.z, framing.up.x,
-              framing.up.y, framing.up.z, framing.distance, framing.elevation * 57.29578f, framing.fov_y * 57.29578f);
+  if (!options.quiet)
+    std::printf("%s round (%.3g, %.3g, %.3g), up (%.3g, %.3g, %.3g), %.3g away, %.0f deg above, %.0f deg field of view\n",
+                path_name(options.path), framing.center.x, framing.center.y, framing.center.z, framing.up.x,
+                framing.up.y, framing.up.z, framing.distance, framing.elevation * 57.29578f, framing.fov_y * 57.29578f);
   return options.path == CameraPathKind::kSpiral ? spiral_path(framing, options.frames, size.width, size.height)
                                                  : orbit_path(framing, options.frames, size.width, size.height);
 }
@@ -123,6 +124,7 @@ void render_path(const RenderCommandOptions& options, const RenderModel& model, 
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     if (video) video->write(image);
     if (!options.out.empty()) write_png(image, options.out / frame_file_name(int(i)), options.bits);
+    if (options.quiet) continue;
     std::printf("frame %zu/%zu  %dx%d  %.1f ms\n", i + 1, cameras.size(), image.width, image.height, ms);
     std::fflush(stdout);
   }
@@ -163,6 +165,7 @@ int run_fly_through(const RenderCommandOptions& options) {
   } else {
     render_path(options, model, cameras, nullptr);
   }
+  if (options.quiet) return 0;
   std::printf("rendered %zu frames along the %s", cameras.size(), path_name(options.path));
   if (ffmpeg) std::printf(" into %s (%g fps)", options.video.string().c_str(), options.fps);
   if (!options.out.empty()) std::printf("%s PNGs in %s", ffmpeg ? " and" : " as", options.out.string().c_str());

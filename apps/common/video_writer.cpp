@@ -1,4 +1,4 @@
-#include "apps/splat-render/video_writer.hpp"
+#include "apps/common/video_writer.hpp"
 
 #include <cerrno>
 #include <csignal>
