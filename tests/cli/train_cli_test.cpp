@@ -793,7 +793,8 @@ fs::path nerfstudio_folder_with_noise(const fs::path& dir, bool masks) {
     for (nlohmann::json frame : in.at("frames")) {
       const std::string stem = fs::path(frame.at("file_path").get<std::string>()).filename().string();
       const std::string name = std::string(split) + "_" + stem + ".png";
-      Image photo = composite_onto(read_image(tiny_dataset() / split / (stem + ".png")), std::array<float, 3>{1, 1, 1}.data());
+      Image photo = read_image(tiny_dataset() / split / (stem + ".png"));
+      if (photo.channels == 4) photo = composite_onto(photo, std::array<float, 3>{1, 1, 1}.data());
       Image mask(photo.width, photo.height, 1, 1.0f);
       for (int y = 0; y < photo.height; ++y)
         for (int x = 3 * photo.width / 4; x < photo.width; ++x) {
