@@ -46,9 +46,9 @@ struct DatasetOptions {
   // Train on this many of the training views (keep_training_views), 0 = all; the test views
   // stay as they are: a sparser capture of the same scene, scored on the same views.
   int train_views = 0;
-  // COLMAP and nerfstudio data: every K-th image in name order is a test view (i % K == 0), 0 = none, all
-  // views train. Blender data names its test views in transforms_test.json, and setting this
-  // for it is an error.
+  // COLMAP and nerfstudio data: every K-th image in name order is a test view (i % K == 0),
+  // 0 = none, all views train. Blender data names its test views in transforms_test.json, and
+  // setting this for it is an error.
   std::optional<int> holdout_every;
 };
 
