@@ -198,6 +198,11 @@ int TrainingRun::run() {
       progress_.message("resumed from " + file.string() + " at iteration " +
                         std::to_string(trainer_->iteration()));
   }
+  // The output folder once every input is known good (the checkpoint too): a refused run
+  // leaves nothing behind.
+  std::error_code ec;
+  fs::create_directories(options_.out, ec);
+  if (!fs::is_directory(options_.out)) throw InputError(options_.out, "cannot create the output folder");
   if (leads()) write_json(options_.out / "config.json", trainer_->config_json());
 
   std::signal(SIGINT, on_interrupt);
@@ -361,9 +366,6 @@ int run_train_command(const TrainCommandOptions& options) {
   const auto thread_limit = limit_threads(options.threads);
   const Dataset dataset = load_dataset(options.data, options.dataset);
   if (dataset.train.empty()) throw InputError(options.data, "the dataset has no training views");
-  std::error_code ec;
-  fs::create_directories(options.out, ec);
-  if (!fs::is_directory(options.out)) throw InputError(options.out, "cannot create the output folder");
   if (!options.quiet && (options.group == nullptr || options.group->rank() == 0))
     std::printf("data: %s (%zu train, %zu test views, %s), scene extent %.3f\n",
                 options.data.string().c_str(), dataset.train.size(), dataset.test.size(),

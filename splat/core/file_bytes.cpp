@@ -33,4 +33,16 @@ std::vector<unsigned char> read_file_bytes(const std::filesystem::path& file, st
   return bytes;
 }
 
+void expect_end_of_file(std::istream& in, const std::filesystem::path& file, const char* what) {
+  if (in.peek() == std::char_traits<char>::eof()) {
+    in.clear();  // peek at the end sets eofbit; the stream was read whole
+    return;
+  }
+  const std::streamoff at = in.tellg();
+  std::error_code ec;
+  const std::uint64_t size = std::filesystem::file_size(file, ec);
+  const std::string count = ec || at < 0 ? "bytes" : std::to_string(size - std::uint64_t(at)) + " bytes";
+  throw InputError(file, count + " follow the end of " + what);
+}
+
 }  // namespace splat

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "splat/core/error.hpp"
+#include "splat/core/ply_ascii.hpp"
 
 namespace splat::ply {
 namespace {
@@ -229,6 +230,31 @@ Header parse_header(std::string_view bytes, const std::filesystem::path& file) {
     if (words.size() == 1 && words[0] == "end_header") return parser.finish(pos);
     parser.line(line_number, line, words);
   }
+}
+
+void expect_binary_end(const Header& header, std::size_t last_read, std::uint64_t bytes_left,
+                       const std::filesystem::path& file) {
+  for (std::size_t e = last_read + 1; e < header.elements.size(); ++e) {
+    const Element& element = header.elements[e];
+    if (element.has_list()) return;
+    const std::size_t row = element.row_bytes();
+    if (row != 0 && element.count > bytes_left / row)
+      throw InputError(file, "truncated: the data ends inside element '" + element.name + "'");
+    bytes_left -= element.count * row;
+  }
+  if (bytes_left != 0)
+    throw InputError(file, std::to_string(bytes_left) + " bytes follow the end of the last element's data");
+}
+
+void expect_ascii_end(const Header& header, std::size_t last_read, LineCursor& cursor,
+                      const std::filesystem::path& file) {
+  std::string_view line;
+  for (std::size_t e = last_read + 1; e < header.elements.size(); ++e)
+    for (std::uint64_t r = 0; r < header.elements[e].count; ++r)
+      if (!cursor.next(line))
+        throw InputError(file, "ASCII data is truncated: it ends inside element '" + header.elements[e].name + "'");
+  if (cursor.next(line))
+    throw InputError(file, "text follows the last element's rows: '" + std::string(line.substr(0, 40)) + "'");
 }
 
 }  // namespace splat::ply

@@ -54,4 +54,17 @@ constexpr std::size_t kMaxHeaderLines = 10000;
 // kMaxHeaderBytes are looked at). Throws InputError naming `file` on anything malformed.
 Header parse_header(std::string_view bytes, const std::filesystem::path& file);
 
+class LineCursor;
+
+// A PLY file ends where its declared elements end: bytes beyond them are a damaged or
+// concatenated file (InputError naming `file`), and so is data that stops inside one. Both
+// check the elements after `last_read`, the one the reader stopped at. Binary rows that are
+// lists (a mesh's faces) have no size without decoding them, which no reader of ours does:
+// from such an element on, nothing more is checked. ASCII rows are one line each, and blank
+// lines (as editors leave them) are not text.
+void expect_binary_end(const Header& header, std::size_t last_read, std::uint64_t bytes_left,
+                       const std::filesystem::path& file);
+void expect_ascii_end(const Header& header, std::size_t last_read, LineCursor& cursor,
+                      const std::filesystem::path& file);
+
 }  // namespace splat::ply

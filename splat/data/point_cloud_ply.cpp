@@ -135,6 +135,7 @@ PointCloud read_point_cloud_ply(const fs::path& file) {
                                      "' is not a number");
       store_point(columns, vertex, row, i, cloud, file);
     }
+    ply::expect_ascii_end(header, vertex_index, cursor, file);
     return cloud;
   }
   std::uint64_t offset = header.data_offset;
@@ -147,6 +148,7 @@ PointCloud read_point_cloud_ply(const fs::path& file) {
   }
   const std::size_t stride = vertex.row_bytes();
   if (n > (bytes.size() - offset) / stride) throw InputError(file, truncated);
+  ply::expect_binary_end(header, vertex_index, bytes.size() - offset - n * stride, file);
   const bool swap = (header.format == ply::Format::kBinaryLittleEndian) != (std::endian::native == std::endian::little);
   cloud.positions.resize(3 * n);
   cloud.colors.resize(3 * n);

@@ -213,6 +213,8 @@ GaussianModel read_binary(std::ifstream& in, std::uint64_t file_size, const ply:
     throw InputError(file, truncated_message(vertex.count, kVertexElement, stride, available));
   const std::size_t n = static_cast<std::size_t>(vertex.count);
 
+  ply::expect_binary_end(header, layout.element_index, available - n * stride, file);
+
   std::vector<unsigned char> payload(n * stride);
   in.seekg(static_cast<std::streamoff>(header.data_offset + skip));
   in.read(reinterpret_cast<char*>(payload.data()), static_cast<std::streamsize>(payload.size()));
@@ -309,6 +311,7 @@ GaussianModel read_ascii(std::ifstream& in, std::uint64_t file_size, const ply::
                                    "' is not a number");
     }
   }
+  ply::expect_ascii_end(header, layout.element_index, cursor, file);
   return model;
 }
 

@@ -10,6 +10,7 @@
 #include "splat/core/atomic_file.hpp"
 #include "splat/core/json_file.hpp"
 #include "splat/core/error.hpp"
+#include "splat/core/file_bytes.hpp"
 
 namespace splat {
 
@@ -133,7 +134,9 @@ void write_nerf(const NerfModel& model, const std::filesystem::path& file) {
 NerfModel read_nerf(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file, "cannot open the file");
-  return read_nerf_from(in, file);
+  NerfModel model = read_nerf_from(in, file);
+  expect_end_of_file(in, file, "the model's occupancy grid");
+  return model;
 }
 
 bool is_nerf_file(const std::filesystem::path& file) {

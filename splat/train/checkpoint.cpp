@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "splat/core/atomic_file.hpp"
+#include "splat/core/file_bytes.hpp"
 #include "splat/core/json_file.hpp"
 #include "splat/core/setting_value.hpp"
 #include "splat/train/splat_trainer.hpp"
@@ -153,6 +154,7 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
     for (std::vector<float>& a : arrays) read_array(in, a, remaining, file);
   if (GaussianModel* best = holdout_.checkpoint_model())
     for (const ParameterGroup& group : kParameterGroups) read_array(in, group.of(*best), remaining, file);
+  expect_end_of_file(in, file, "the checkpoint's last array");
   try {
     for (std::size_t k = 0; k < per_view.size(); ++k) {
       const std::array<std::vector<float>, 3>& a = per_view_arrays[k];

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "splat/core/atomic_file.hpp"
+#include "splat/core/file_bytes.hpp"
 #include "splat/core/json_file.hpp"
 #include "splat/core/random.hpp"
 #include "splat/core/settings_table.hpp"
@@ -257,6 +258,7 @@ void NerfTrainer::load_checkpoint(const std::filesystem::path& file) {
     read_floats(in, averaged.coarse.parameters(), file, "parameter average");
     read_floats(in, averaged.fine.parameters(), file, "parameter average");
   }
+  expect_end_of_file(in, file, "the checkpoint's last array");
   std::istringstream rng_text(rng);
   std::mt19937 restored_rng;
   rng_text >> restored_rng;
