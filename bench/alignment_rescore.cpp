@@ -45,13 +45,13 @@ int main(int argc, char** argv) {
     }
     splat::PoseAlignmentSettings alignment;
     alignment.steps = 30;
-    if (auto n = args.number("steps")) alignment.steps = int(*n);
+    if (auto n = args.integer("steps", {1, 100000})) alignment.steps = int(*n);
     const splat::SplatTrainingConfig training;
-    const float lr = float(args.number("lr").value_or(training.pose_rotation_lr));
+    const float lr = float(args.number("lr", {0, 1}).value_or(training.pose_rotation_lr));
     alignment.lr = {lr, lr};
-    alignment.lr_final_factor = float(args.number("final-factor").value_or(training.pose_lr_final_factor));
+    alignment.lr_final_factor = float(args.number("final-factor", {1e-6, 1}).value_or(training.pose_lr_final_factor));
     std::unique_ptr<tbb::global_control> threads;
-    if (auto n = args.positive_integer("threads"))
+    if (auto n = args.integer("threads", splat::cli::kThreadsRange))
       threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, *n);
     splat::RenderSettings render;
     render.sh_degree = model.sh_degree;

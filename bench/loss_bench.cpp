@@ -42,12 +42,10 @@ int main(int argc, char** argv) {
       std::puts("usage: splat-loss-bench [--width W] [--height H] [--threads N] [--repeats N]");
       return 0;
     }
-    const int width = args.integer("width").value_or(400);
-    const int height = args.integer("height").value_or(400);
-    const int repeats = args.integer("repeats").value_or(200);
-    const int threads = args.integer("threads").value_or(0);  // 0: oneTBB's default
-    if (width <= 0 || height <= 0 || repeats <= 0 || threads < 0)
-      throw splat::ArgumentError("--width, --height and --repeats must be positive");
+    const int width = args.integer("width", splat::cli::kImageSideRange).value_or(400);
+    const int height = args.integer("height", splat::cli::kImageSideRange).value_or(400);
+    const int repeats = args.integer("repeats", {1, 1000000}).value_or(200);
+    const int threads = args.integer("threads", splat::cli::kThreadsRange).value_or(0);  // 0: oneTBB's default
     std::unique_ptr<tbb::global_control> limit;
     if (threads > 0)
       limit = std::make_unique<tbb::global_control>(

@@ -93,11 +93,9 @@ int main(int argc, char** argv) {
       std::puts("usage: splat-nerf-mlp-bench [--samples N] [--threads N] [--repeats N]");
       return 0;
     }
-    const int samples = args.integer("samples").value_or(65536);
-    const int repeats = args.integer("repeats").value_or(5);
-    const int threads = args.integer("threads").value_or(0);  // 0: oneTBB's default
-    if (samples <= 0 || repeats <= 0 || threads < 0)
-      throw splat::ArgumentError("--samples and --repeats must be positive");
+    const int samples = args.integer("samples", {1, 1 << 24}).value_or(65536);
+    const int repeats = args.integer("repeats", {1, 1000000}).value_or(5);
+    const int threads = args.integer("threads", splat::cli::kThreadsRange).value_or(0);  // 0: oneTBB's default
     std::unique_ptr<tbb::global_control> limit;
     if (threads > 0)
       limit = std::make_unique<tbb::global_control>(

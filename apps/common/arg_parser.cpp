@@ -101,31 +101,86 @@ std::string ArgParser::required(const std::string& name) const {
   return *v;
 }
 
-std::optional<int> ArgParser::integer(const std::string& name) const {
-  auto v = value(name);
-  if (!v) return std::nullopt;
+namespace {
+
+// The message every numeric option gives for a value it does not take.
+ArgumentError out_of_range(const std::string& name, bool whole, const SettingRange& range, const std::string& text,
+                           std::size_t count) {
+  const std::string values = count == 1   ? ""
+                             : count > 1  ? std::to_string(count) + " comma-separated values, each "
+                                          : "comma-separated values, each ";
+  return ArgumentError("option --" + name + " must be " + values + setting_range_text(whole, range) +
+                       ", got '" + text + "'");
+}
+
+// The words of "a,b,c" (one empty word for "", so that it fails as a number).
+std::vector<std::string> comma_separated(const std::string& text) {
+  std::vector<std::string> words;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    words.push_back(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) return words;
+    start = comma + 1;
+  }
+}
+
+// `word` as a number within `range` (whole when `whole`), or nullopt.
+std::optional<double> parse_in_range(const std::string& word, bool whole, const SettingRange& range) {
+  char* end = nullptr;
   errno = 0;
-  char* end = nullptr;
-  const long parsed = std::strtol(v->c_str(), &end, 10);
-  if (v->empty() || *end != '\0' || errno == ERANGE || parsed < -2147483647L || parsed > 2147483647L)
-    throw ArgumentError("option --" + name + " expects an integer, got '" + *v + "'");
-  return int(parsed);
-}
-
-std::optional<int> ArgParser::positive_integer(const std::string& name) const {
-  const std::optional<int> n = integer(name);
-  if (n && *n < 1) throw ArgumentError("--" + name + " must be >= 1");
-  return n;
-}
-
-std::optional<double> ArgParser::number(const std::string& name) const {
-  auto v = value(name);
-  if (!v) return std::nullopt;
-  char* end = nullptr;
-  const double parsed = std::strtod(v->c_str(), &end);
-  if (v->empty() || *end != '\0' || !std::isfinite(parsed))
-    throw ArgumentError("option --" + name + " expects a number, got '" + *v + "'");
+  const double parsed = std::strtod(word.c_str(), &end);
+  if (word.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(parsed) || parsed < range.lo ||
+      parsed > range.hi || (whole && parsed != std::floor(parsed)))
+    return std::nullopt;
   return parsed;
+}
+
+// The values of option `name`: `count` of them (any number when 0), each in `range`.
+std::optional<std::vector<double>> values_in_range(const std::optional<std::string>& text, const std::string& name,
+                                                   bool whole, const SettingRange& range, std::size_t count) {
+  if (!text) return std::nullopt;
+  const std::vector<std::string> words = count == 1 ? std::vector<std::string>{*text} : comma_separated(*text);
+  if (count > 0 && words.size() != count) throw out_of_range(name, whole, range, *text, count);
+  std::vector<double> values;
+  for (const std::string& word : words) {
+    const std::optional<double> value = parse_in_range(word, whole, range);
+    if (!value) throw out_of_range(name, whole, range, *text, count);
+    values.push_back(*value);
+  }
+  return values;
+}
+
+}  // namespace
+
+std::optional<int> ArgParser::integer(const std::string& name, SettingRange range) const {
+  const auto values = values_in_range(value(name), name, true, range, 1);
+  if (!values) return std::nullopt;
+  return int(values->front());
+}
+
+std::optional<double> ArgParser::number(const std::string& name, SettingRange range) const {
+  const auto values = values_in_range(value(name), name, false, range, 1);
+  if (!values) return std::nullopt;
+  return values->front();
+}
+
+std::optional<std::vector<long long>> ArgParser::integer_list(const std::string& name, SettingRange range,
+                                                              std::size_t count) const {
+  const auto values = values_in_range(value(name), name, true, range, count);
+  if (!values) return std::nullopt;
+  return std::vector<long long>(values->begin(), values->end());
+}
+
+std::optional<std::vector<double>> ArgParser::number_list(const std::string& name, SettingRange range,
+                                                          std::size_t count) const {
+  return values_in_range(value(name), name, false, range, count);
+}
+
+std::optional<std::vector<std::string>> ArgParser::words(const std::string& name) const {
+  const auto text = value(name);
+  if (!text) return std::nullopt;
+  return comma_separated(*text);
 }
 
 std::optional<std::array<float, 3>> ArgParser::colour(const std::string& name) const {
@@ -133,23 +188,12 @@ std::optional<std::array<float, 3>> ArgParser::colour(const std::string& name) c
   if (!v) return std::nullopt;
   if (*v == "white") return std::array<float, 3>{1, 1, 1};
   if (*v == "black") return std::array<float, 3>{0, 0, 0};
-  const auto malformed = [&] {
-    return ArgumentError("option --" + name + " expects white, black or R,G,B with each in [0, 1], got '" +
-                         *v + "'");
-  };
-  std::array<float, 3> out{};
-  std::size_t count = 0, start = 0;
-  while (start <= v->size()) {
-    const std::size_t comma = std::min(v->find(',', start), v->size());
-    const std::string part = v->substr(start, comma - start);
-    char* end = nullptr;
-    const double parsed = std::strtod(part.c_str(), &end);
-    if (part.empty() || *end != '\0' || !(parsed >= 0 && parsed <= 1) || count == 3) throw malformed();
-    out[count++] = float(parsed);
-    start = comma + 1;
+  try {
+    const std::vector<double> c = *values_in_range(v, name, false, {0, 1}, 3);
+    return std::array<float, 3>{float(c[0]), float(c[1]), float(c[2])};
+  } catch (const ArgumentError&) {
+    throw ArgumentError("option --" + name + " expects white, black or R,G,B with each in [0, 1], got '" + *v + "'");
   }
-  if (count != 3) throw malformed();
-  return out;
 }
 
 }  // namespace splat::cli

@@ -28,24 +28,6 @@ docs/DESIGN.md §4.12 lists every field and its quantisation.
                        less exact on real captures; 8,8 is the most exact)
 )";
 
-// The bits per band-1 and higher SH coefficient in "B1,BR".
-splat::SpzWriteOptions parse_sh_bits(const std::string& text) {
-  const std::size_t comma = text.find(',');
-  splat::SpzWriteOptions options;
-  try {
-    if (comma == std::string::npos) throw std::invalid_argument(text);
-    std::size_t used1 = 0, used2 = 0;
-    options.sh1_bits = std::stoi(text.substr(0, comma), &used1);
-    options.sh_rest_bits = std::stoi(text.substr(comma + 1), &used2);
-    if (used1 != comma || used2 != text.size() - comma - 1) throw std::invalid_argument(text);
-  } catch (const std::exception&) {
-    throw splat::ArgumentError("--spz-sh-bits takes two integers B1,BR (e.g. 5,4), not '" + text + "'");
-  }
-  if (options.sh1_bits < 1 || options.sh1_bits > 8 || options.sh_rest_bits < 1 || options.sh_rest_bits > 8)
-    throw splat::ArgumentError("--spz-sh-bits values must be 1..8");
-  return options;
-}
-
 std::string size_text(std::uint64_t bytes) {
   char text[32];
   if (bytes < 1000000) std::snprintf(text, sizeof(text), "%.1f kB", double(bytes) / 1e3);
@@ -71,7 +53,10 @@ int main(int argc, char** argv) {
     if (fs::exists(out, ec) && fs::equivalent(in, out, ec))
       throw splat::ArgumentError(out.string() + ": the output is the input file");
     splat::SpzWriteOptions spz;
-    if (auto bits = args.value("spz-sh-bits")) spz = parse_sh_bits(*bits);
+    if (auto bits = args.integer_list("spz-sh-bits", {1, 8}, 2)) {
+      spz.sh1_bits = int((*bits)[0]);
+      spz.sh_rest_bits = int((*bits)[1]);
+    }
 
     const splat::GaussianModel model = splat::read_gaussian_model(in);
     splat::write_gaussian_model(model, out, spz);

@@ -33,12 +33,9 @@ int main(int argc, char** argv) {
       return 0;
     }
     const std::filesystem::path out = args.required("out");
-    const int gaussians = args.integer("gaussians").value_or(20000);
-    const int views = args.integer("views").value_or(8);
-    const int size = args.integer("size").value_or(400);
-    if (gaussians < 1 || gaussians > 10000000) throw splat::ArgumentError("--gaussians must be in 1..10000000");
-    if (views < 1 || views > 1000) throw splat::ArgumentError("--views must be in 1..1000");
-    if (size < 1 || size > 16384) throw splat::ArgumentError("--size must be in 1..16384");
+    const int gaussians = args.integer("gaussians", {1, 10000000}).value_or(20000);
+    const int views = args.integer("views", {1, 1000}).value_or(8);
+    const int size = args.integer("size", splat::cli::kImageSideRange).value_or(400);
     std::error_code ec;
     std::filesystem::create_directories(out, ec);
     if (!std::filesystem::is_directory(out))

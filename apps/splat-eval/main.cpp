@@ -89,32 +89,6 @@ can share one folder and one report. --report (with --out only) just redraws the
   --quiet                     no progress output
 )";
 
-// "a,b,,c" → {"a", "b", "", "c"}: the words between commas, empty ones included.
-std::vector<std::string> comma_separated(const std::string& text) {
-  std::vector<std::string> words;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    const std::size_t end = std::min(text.find(',', start), text.size());
-    words.push_back(text.substr(start, end - start));
-    start = end + 1;
-  }
-  return words;
-}
-
-// "8,16,32": each a whole number >= 1.
-template <class Integer>
-std::vector<Integer> positive_list(const std::string& text, const std::string& option) {
-  std::vector<Integer> values;
-  for (const std::string& word : comma_separated(text)) {
-    char* rest = nullptr;
-    const long long value = std::strtoll(word.c_str(), &rest, 10);
-    if (word.empty() || *rest != '\0' || value < 1 || value > 1000000000)
-      throw splat::ArgumentError(option + " expects whole numbers >= 1 separated by commas, got '" + text + "'");
-    values.push_back(Integer(value));
-  }
-  return values;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -133,25 +107,18 @@ int main(int argc, char** argv) {
     splat::cli::EvalCommandOptions options;
     options.data = args.required("data");
     options.out = args.required("out");
-    if (auto list = args.value("methods")) options.methods = comma_separated(*list);  // checked by the run
+    if (auto list = args.words("methods")) options.methods = *list;  // checked by the run
     if (auto file = args.value("splat-config")) options.splat_settings = splat::cli::read_splat_settings(*file);
     if (auto file = args.value("nerf-config")) splat::read_config_file(*file, options.nerf_config);
-    if (auto s = args.number("max-seconds")) {
-      if (*s <= 0) throw splat::ArgumentError("--max-seconds must be > 0");
-      options.max_seconds = *s;
-    }
-    if (auto t = args.number("eval-every-seconds")) {
-      if (*t <= 0) throw splat::ArgumentError("--eval-every-seconds must be > 0");
-      options.eval_every = *t;
-    }
-    if (auto n = args.positive_integer("threads")) options.threads = *n;
-    if (auto k = args.positive_integer("downscale")) options.dataset.downscale = *k;
+    if (auto s = args.number("max-seconds", {0.01, splat::kMaxTrainingSeconds})) options.max_seconds = *s;
+    if (auto t = args.number("eval-every-seconds", {0.01, splat::kMaxTrainingSeconds})) options.eval_every = *t;
+    if (auto n = args.integer("threads", splat::cli::kThreadsRange)) options.threads = *n;
+    if (auto k = args.integer("downscale", splat::kDownscaleRange)) options.dataset.downscale = *k;
     else options.dataset.max_width = splat::kDefaultMaxImageWidth;
     const std::array<float, 3> bg = args.colour("bg").value_or(std::array<float, 3>{1, 1, 1});
     std::copy(bg.begin(), bg.end(), options.dataset.background);  // and the trainers'
     options.quiet = args.has("quiet");
-    if (auto frames = args.positive_integer("fly-through")) {
-      if (*frames > 100000) throw splat::ArgumentError("--fly-through must be 1..100000 frames");
+    if (auto frames = args.integer("fly-through", {1, 100000})) {
       if (args.has("stability") || args.value("sweep-gaussians"))
         throw splat::ArgumentError("--fly-through is for the comparison; not with --stability or --sweep-gaussians");
       // Known before anything trains: the videos are the run's last step.
@@ -162,31 +129,27 @@ int main(int argc, char** argv) {
     if (args.has("stability") && args.value("sweep-gaussians"))
       throw splat::ArgumentError("--stability and --sweep-gaussians are separate runs; give one");
     if (args.has("stability")) options.mode = splat::cli::EvalMode::kStability;
-    if (auto list = args.value("stability-views")) options.stability_views = positive_list<int>(*list, "--stability-views");
-    if (auto list = args.value("stability-conditions")) {
-      options.stability_kinds = comma_separated(*list);
+    if (auto list = args.integer_list("stability-views", {1, splat::kMaxViews}))
+      options.stability_views.assign(list->begin(), list->end());
+    if (auto list = args.words("stability-conditions")) {
+      options.stability_kinds = *list;
       for (const std::string& kind : options.stability_kinds)
         if (std::find(std::begin(splat::cli::kStabilityKinds), std::end(splat::cli::kStabilityKinds), kind) ==
             std::end(splat::cli::kStabilityKinds))
           throw splat::ArgumentError("--stability-conditions: unknown kind '" + kind +
                                      "' (baseline, views, pose-noise, refinement, random-init)");
     }
-    if (auto list = args.value("pose-noise")) {
+    if (auto list = args.number_list("pose-noise", {0.01, 90})) {
       options.pose_noise_levels.clear();
-      for (const std::string& word : comma_separated(*list)) {
-        char* rest = nullptr;
-        const double degrees = std::strtod(word.c_str(), &rest);
-        if (word.empty() || *rest != '\0' || !(degrees > 0 && degrees <= 90))
-          throw splat::ArgumentError("--pose-noise expects degrees in (0, 90] separated by commas, got '" + *list + "'");
-        options.pose_noise_levels.push_back({degrees, degrees / 100.0});
-      }
+      for (const double degrees : *list) options.pose_noise_levels.push_back({degrees, degrees / 100.0});
     }
     if ((args.value("stability-conditions") || args.value("pose-noise") || args.value("stability-views")) &&
         !args.has("stability"))
       throw splat::ArgumentError("--stability-conditions, --pose-noise and --stability-views need --stability");
     if (auto list = args.value("sweep-gaussians")) {
       options.mode = splat::cli::EvalMode::kGaussianSweep;
-      options.sweep_gaussians = positive_list<std::size_t>(*list, "--sweep-gaussians");
+      const auto budgets = *args.integer_list("sweep-gaussians", {1, splat::kMaxGaussiansSetting});
+      options.sweep_gaussians.assign(budgets.begin(), budgets.end());
     }
     return splat::cli::run_eval_command(options);
   });

@@ -95,16 +95,16 @@ int main(int argc, char** argv) {
     }
     const fs::path model_file = args.required("model"), cameras_file = args.required("cameras");
     const fs::path weights_file = args.required("weights"), out_file = args.required("out");
-    const std::optional<int> view_option = args.integer("view");
+    const std::optional<int> view_option = args.integer("view", splat::cli::kViewIndexRange);
     if (!view_option) throw splat::ArgumentError("missing required option --view");
     const int view = *view_option;
     splat::TransformsOptions size;
-    size.width = args.integer("width").value_or(0);
-    size.height = args.integer("height").value_or(0);
-    if (size.width <= 0 || size.height <= 0 || size.width > 16384 || size.height > 16384)
-      throw splat::ArgumentError("--width and --height are required, in 1..16384");
-    const std::optional<int> bench = args.integer("bench");
-    if (bench && (*bench < 1 || *bench > 100000)) throw splat::ArgumentError("--bench must be in 1..100000");
+    const std::optional<int> width = args.integer("width", splat::cli::kImageSideRange),
+                             height = args.integer("height", splat::cli::kImageSideRange);
+    if (!width || !height) throw splat::ArgumentError("--width and --height are required (see --help)");
+    size.width = *width;
+    size.height = *height;
+    const std::optional<int> bench = args.integer("bench", {1, 100000});
     const auto bg = args.colour("bg");
     if (!bg) throw splat::ArgumentError("missing required option --bg");
 

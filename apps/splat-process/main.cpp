@@ -95,11 +95,9 @@ int main(int argc, char** argv) {
       throw splat::ArgumentError("give --images DIR or --video FILE (one of them; see --help)");
     const fs::path out = args.required("out");
     if (args.has("frames") && !video) throw splat::ArgumentError("--frames is for --video");
-    const int frames = args.positive_integer("frames").value_or(100);
-    if (frames > 10000) throw splat::ArgumentError("--frames must be 1..10000");
-    const int max_size = args.integer("max-size").value_or(1600);
-    if (max_size < 0 || (max_size > 0 && max_size < 64) || max_size > 65536)
-      throw splat::ArgumentError("--max-size must be 0 (keep) or 64..65536 pixels");
+    const int frames = args.integer("frames", {1, 10000}).value_or(100);
+    const int max_size = args.integer("max-size", {0, 65536}).value_or(1600);
+    if (max_size > 0 && max_size < 64) throw splat::ArgumentError("option --max-size must be 0 (keep) or 64 to 65536 pixels, got '" + std::to_string(max_size) + "'");
     splat::process::ColmapRunOptions colmap;
     colmap.matcher = video ? splat::process::Matcher::kSequential : splat::process::Matcher::kExhaustive;
     if (auto matcher = args.value("matcher")) {
@@ -108,7 +106,7 @@ int main(int argc, char** argv) {
       else throw splat::ArgumentError("--matcher must be exhaustive or sequential, not '" + *matcher + "'");
     }
     colmap.single_camera = !args.has("camera-per-image");
-    colmap.threads = args.positive_integer("threads").value_or(0);
+    colmap.threads = args.integer("threads", splat::cli::kThreadsRange).value_or(0);
 
     // Inputs and tools first: nothing is made before they are known good.
     std::vector<fs::path> photos;

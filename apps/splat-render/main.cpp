@@ -72,13 +72,9 @@ void read_path_options(const splat::cli::ArgParser& args, splat::cli::RenderComm
   else throw ArgumentError("--path must be orbit, spiral or interpolate, not '" + *path + "'");
   if (options.path == CameraPathKind::kInterpolate && !args.has("cameras"))
     throw ArgumentError("--path interpolate goes through the views of --cameras, which is missing");
-  options.frames = args.integer("frames").value_or(options.frames);
-  if (options.frames < 1 || options.frames > kMaxPathFrames)
-    throw ArgumentError("--frames must be in 1.." + std::to_string(kMaxPathFrames));
+  options.frames = args.integer("frames", {1, kMaxPathFrames}).value_or(options.frames);
   options.video = args.value("video").value_or("");
-  options.fps = args.number("fps").value_or(options.fps);
-  if (!(options.fps > 0 && options.fps <= kMaxFps))
-    throw ArgumentError("--fps must be in (0, " + std::to_string(int(kMaxFps)) + "]");
+  options.fps = args.number("fps", {0.01, kMaxFps}).value_or(options.fps);
   if (options.video.empty() && !args.has("out"))
     throw ArgumentError("--path writes a --video, PNGs into --out, or both: give at least one");
   if (args.has("bench")) throw ArgumentError("--bench times the --cameras views; it does not go with --path");
@@ -107,22 +103,17 @@ int main(int argc, char** argv) {
       options.cameras = args.value("cameras").value_or("");
       options.out = args.value("out").value_or("");
     }
-    options.width = args.integer("width").value_or(0);
-    options.height = args.integer("height").value_or(0);
-    if (options.width < 0 || options.height < 0 || options.width > 16384 || options.height > 16384)
-      throw splat::ArgumentError("--width/--height must be in 1..16384");
+    options.width = args.integer("width", splat::cli::kImageSideRange).value_or(0);
+    options.height = args.integer("height", splat::cli::kImageSideRange).value_or(0);
     if ((options.width > 0) != (options.height > 0))
       throw splat::ArgumentError("give both --width and --height, or neither");
     if (auto bg = args.colour("bg"))
       for (int c = 0; c < 3; ++c) options.background[c] = (*bg)[c];
-    options.sh_degree = args.integer("sh-degree").value_or(3);
-    if (options.sh_degree < 0 || options.sh_degree > 3)
-      throw splat::ArgumentError("--sh-degree must be 0..3");
-    options.bench_repeats = args.integer("bench").value_or(0);
-    if (options.bench_repeats < 0) throw splat::ArgumentError("--bench must be >= 0");
+    options.sh_degree = args.integer("sh-degree", splat::cli::kShDegreeRange).value_or(3);
+    options.bench_repeats = args.integer("bench", {1, 100000}).value_or(0);
     if (args.has("png16")) options.bits = 16;
     std::unique_ptr<tbb::global_control> threads;
-    if (auto n = args.positive_integer("threads")) {
+    if (auto n = args.integer("threads", splat::cli::kThreadsRange)) {
       threads = std::make_unique<tbb::global_control>(
           tbb::global_control::max_allowed_parallelism, std::size_t(*n));
     }

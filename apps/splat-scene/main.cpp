@@ -32,8 +32,7 @@ int main(int argc, char** argv) {
     if (words.size() != 2 || words[0] != "render")
       throw splat::ArgumentError("expected \"render SCENE.json --out DIR\" (see --help)");
     const std::filesystem::path out = args.required("out");
-    const auto n = args.integer("threads");
-    if (n && *n < 1) throw splat::ArgumentError("--threads must be at least 1");
+    const auto n = args.integer("threads", splat::cli::kThreadsRange);
     const auto thread_limit = splat::cli::limit_threads(n.value_or(0));
     const auto start = std::chrono::steady_clock::now();
     // Everything that can be wrong with the inputs is found before the output folder exists.

@@ -79,25 +79,13 @@ template <class Config>
 void apply_options(const splat::cli::ArgParser& args, Config& config,
                    splat::cli::TrainCommandOptions& options) {
   if (auto file = args.value("config")) splat::read_config_file(*file, config);
-  if (auto n = args.positive_integer("iters")) config.iterations = *n;
-  if (auto s = args.number("max-seconds")) {
-    if (*s <= 0) throw splat::ArgumentError("--max-seconds must be > 0");
-    config.max_seconds = *s;
-  }
+  if (auto n = args.integer("iters", splat::setting_ranges::kPositiveIterations)) config.iterations = *n;
+  if (auto s = args.number("max-seconds", {0.01, splat::kMaxTrainingSeconds})) config.max_seconds = *s;
   const std::array<float, 3> bg = args.colour("bg").value_or(std::array<float, 3>{1, 1, 1});
   for (int c = 0; c < 3; ++c) config.background[c] = options.dataset.background[c] = bg[c];
-  if (auto seed = args.integer("seed")) {
-    if (*seed < 0) throw splat::ArgumentError("--seed must be >= 0");
-    config.seed = unsigned(*seed);
-  }
-  if (auto n = args.integer("test-every")) {
-    if (*n < 0) throw splat::ArgumentError("--test-every must be >= 0");
-    config.test_interval = *n;
-  }
-  if (auto n = args.integer("checkpoint-every")) {
-    if (*n < 0) throw splat::ArgumentError("--checkpoint-every must be >= 0");
-    config.checkpoint_interval = *n;
-  }
+  if (auto seed = args.integer("seed", {0, 2147483647})) config.seed = unsigned(*seed);
+  if (auto n = args.integer("test-every", splat::setting_ranges::kIterations)) config.test_interval = *n;
+  if (auto n = args.integer("checkpoint-every", splat::setting_ranges::kIterations)) config.checkpoint_interval = *n;
 }
 
 // splat-train's work in this process (alone, or one rank of a data-parallel run).
@@ -142,25 +130,20 @@ int train_main(int argc, char** argv, splat::ProcessGroup* ranks) {
     if (strategy && options.config.strategy != *strategy)
       throw splat::ArgumentError("--strategy " + *strategy + " conflicts with the config file's strategy '" +
                                  options.config.strategy + "'");
-    if (auto n = args.positive_integer("max-gaussians")) options.config.density.max_gaussians = std::size_t(*n);
-    if (auto n = args.positive_integer("batch")) options.config.batch = *n;
+    if (auto n = args.integer("max-gaussians", {1, splat::kMaxGaussiansSetting}))
+      options.config.density.max_gaussians = std::size_t(*n);
+    if (auto n = args.integer("batch", {1, splat::kMaxBatchViews})) options.config.batch = *n;
     if (args.has("refine-poses")) options.config.refine_poses = true;
     if (args.has("exposure-compensation")) options.config.exposure_compensation = true;
   }
-  if (auto n = args.positive_integer("threads")) options.threads = *n;
-  if (auto k = args.positive_integer("downscale")) options.dataset.downscale = *k;
+  if (auto n = args.integer("threads", splat::cli::kThreadsRange)) options.threads = *n;
+  if (auto k = args.integer("downscale", splat::kDownscaleRange)) options.dataset.downscale = *k;
   else options.dataset.max_width = splat::kDefaultMaxImageWidth;
-  if (auto n = args.positive_integer("train-views")) options.dataset.train_views = *n;
-  if (auto k = args.integer("holdout-every")) {
-    if (*k < 0) throw splat::ArgumentError("--holdout-every must be >= 0 (0: every view trains)");
-    options.dataset.holdout_every = int(*k);
-  }
+  if (auto n = args.integer("train-views", {1, splat::kMaxViews})) options.dataset.train_views = *n;
+  if (auto k = args.integer("holdout-every", {0, splat::kMaxViews})) options.dataset.holdout_every = *k;
   if (auto r = args.value("resume")) options.resume = *r;
   options.quiet = args.has("quiet") || (ranks && ranks->rank() != 0);  // rank 0 reports
-  if (auto s = args.number("snapshot-every")) {
-    if (!(*s > 0)) throw splat::ArgumentError("--snapshot-every must be > 0 seconds");
-    options.snapshot_seconds = *s;
-  }
+  if (auto s = args.number("snapshot-every", {0.1, splat::kMaxTrainingSeconds})) options.snapshot_seconds = *s;
   options.group = ranks;
   return splat::cli::run_train_command(options);
 }

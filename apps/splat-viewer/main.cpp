@@ -11,6 +11,8 @@
 
 namespace {
 
+constexpr splat::SettingRange kWindowSideRange{16, 8192};
+
 constexpr const char* kUsage = R"(usage: splat-viewer FILE [FILE2] [options]
        splat-viewer --watch DIR [options]
 
@@ -61,10 +63,8 @@ int main(int argc, char** argv) {
     options.files.assign(files.begin(), files.end());
     if (watch) options.files = {*watch};
 
-    const auto width = args.integer("width"), height = args.integer("height");
+    const auto width = args.integer("width", kWindowSideRange), height = args.integer("height", kWindowSideRange);
     if (width.has_value() != height.has_value()) throw splat::ArgumentError("give both --width and --height, or neither");
-    if (width && (*width < 16 || *height < 16 || *width > 8192 || *height > 8192))
-      throw splat::ArgumentError("--width and --height must be between 16 and 8192");
     std::optional<std::string> cameras_file = args.value("cameras");
     if (watch && !cameras_file && std::filesystem::exists(std::filesystem::path(*watch) / "cameras_train.json"))
       cameras_file = (std::filesystem::path(*watch) / "cameras_train.json").string();
@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
       splat::TransformsOptions transforms;
       if (width) transforms.width = *width, transforms.height = *height;
       options.cameras = splat::load_transforms(*file, transforms);
-      options.view = args.integer("view").value_or(0);
+      options.view = args.integer("view", splat::cli::kViewIndexRange).value_or(0);
       if (options.view < 0 || options.view >= int(options.cameras.size()))
         throw splat::ArgumentError("--view " + std::to_string(options.view) + " is out of range: " + *file + " has " +
                                    std::to_string(options.cameras.size()) + " views");
@@ -84,21 +84,12 @@ int main(int argc, char** argv) {
     if (width) options.width = *width, options.height = *height;
     const std::array<float, 3> bg = args.colour("bg").value_or(std::array<float, 3>{1, 1, 1});
     std::copy(bg.begin(), bg.end(), options.settings.background);
-    if (auto n = args.integer("sh-degree")) {
-      if (*n < 0 || *n > 3) throw splat::ArgumentError("--sh-degree must be 0..3");
-      options.settings.sh_degree = *n;
-    }
-    if (auto f = args.number("fps")) {
-      if (!(*f >= 1 && *f <= 240)) throw splat::ArgumentError("--fps must be between 1 and 240");
-      options.target_fps = *f;
-    }
+    if (auto n = args.integer("sh-degree", splat::cli::kShDegreeRange)) options.settings.sh_degree = *n;
+    if (auto f = args.number("fps", {1, 240})) options.target_fps = *f;
     if (auto s = args.value("screenshot")) options.screenshot = *s;
     options.screenshot_overlay = args.has("screenshot-overlay");
     options.show_help = args.has("show-help");
-    if (auto s = args.number("bench-orbit")) {
-      if (!(*s > 0)) throw splat::ArgumentError("--bench-orbit must be > 0 seconds");
-      options.bench_seconds = *s;
-    }
+    if (auto s = args.number("bench-orbit", {0.1, 3600})) options.bench_seconds = *s;
 
     // Every model loads before a window opens: bad input never leaves one behind.
     std::vector<std::unique_ptr<splat::viewer::PanelModel>> models;

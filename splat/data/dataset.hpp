@@ -8,6 +8,7 @@
 
 #include "splat/core/camera.hpp"
 #include "splat/core/image.hpp"
+#include "splat/core/setting_value.hpp"
 
 namespace splat {
 
@@ -35,6 +36,9 @@ struct PointCloud {
 // Images wider than this train at a downscale by default (splat-train, splat-eval), as the
 // official trainer rescales them: its time per iteration grows with the pixels.
 constexpr int kDefaultMaxImageWidth = 1600;
+// What the options that choose views and sizes may be (--downscale, --train-views, --holdout-every).
+constexpr SettingRange kDownscaleRange{1, 256};
+constexpr int kMaxViews = 1'000'000;
 
 struct DatasetOptions {
   float background[3] = {1, 1, 1};  // RGBA images are composited onto this

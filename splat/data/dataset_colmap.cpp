@@ -14,6 +14,7 @@
 #include "splat/data/colmap_model.hpp"
 #include "splat/data/dataset_loading.hpp"
 #include "splat/data/undistort.hpp"
+#include "splat/data/view_names.hpp"
 
 namespace splat::dataset_detail {
 namespace {
@@ -112,6 +113,9 @@ Dataset load_colmap(const fs::path& folder, const fs::path& sparse_dir,
 
   check_dataset_fits_in_memory(folder, sizes, downscale);
 
+  std::vector<fs::path> image_names;
+  for (const ColmapImage* image : images) image_names.push_back(image->name);
+  const std::vector<std::string> names = view_names(image_names, model.images_file);
   std::vector<DatasetView> views(images.size());
   for_each_in_parallel(images.size(), [&](std::size_t i) {
     const ColmapImage& image = *images[i];
@@ -126,7 +130,7 @@ Dataset load_colmap(const fs::path& folder, const fs::path& sparse_dir,
     if (auto covered = covered_regions.find(image.camera_id); covered != covered_regions.end())
       source.covered = covered->second;
     source.size_source = model.cameras_file.string() + " (camera " + std::to_string(image.camera_id) + ")";
-    views[i].name = fs::path(image.name).stem().string();
+    views[i].name = names[i];
     load_view(source, downscale, options.background, views[i]);
   });
 

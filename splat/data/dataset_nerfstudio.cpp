@@ -42,12 +42,6 @@ Dataset load_nerfstudio(const fs::path& folder, const DatasetOptions& options) {
   // Name order decides the split, whatever order the file lists the frames in.
   std::stable_sort(frames.begin(), frames.end(),
                    [](const CameraFrame& a, const CameraFrame& b) { return a.image_path < b.image_path; });
-  // A view's name names its renders and scores.
-  std::map<std::string, const CameraFrame*> by_name;
-  for (const CameraFrame& frame : frames)
-    if (const auto [it, added] = by_name.emplace(frame.name, &frame); !added)
-      throw InputError(file, "two frames are named " + frame.name + " (" + it->second->image_path.string() +
-                                 " and " + frame.image_path.string() + "): view names must be unique");
 
   std::vector<ImageSize> sizes;
   for (const CameraFrame& frame : frames) sizes.push_back({frame.camera.width, frame.camera.height});

@@ -15,6 +15,7 @@
 #include "splat/core/json_file.hpp"
 #include "splat/core/image.hpp"
 #include "splat/data/image_io.hpp"
+#include "splat/data/view_names.hpp"
 
 namespace splat {
 namespace {
@@ -280,6 +281,7 @@ std::vector<CameraFrame> load_transforms(const std::filesystem::path& file,
 
   std::vector<CameraFrame> result;
   result.reserve(frames_it->size());
+  std::vector<fs::path> file_paths;
   for (std::size_t i = 0; i < frames_it->size(); ++i) {
     const json& frame = (*frames_it)[i];
     if (!frame.is_object())
@@ -290,6 +292,7 @@ std::vector<CameraFrame> load_transforms(const std::filesystem::path& file,
     const std::string& file_path = reader.file_path();
     out.name = fs::path(file_path).stem().string();
     if (out.name.empty()) reader.fail_here("\"file_path\" has no file name: " + file_path);
+    file_paths.push_back(file_path);
     out.image_path = resolve_image_path(file, file_path);
     if (i == 0) first_image = out.image_path;
 
@@ -308,6 +311,8 @@ std::vector<CameraFrame> load_transforms(const std::filesystem::path& file,
     if (options.width > 0) out.camera = out.camera.resized(options.width, options.height);
     result.push_back(std::move(out));
   }
+  const std::vector<std::string> names = view_names(file_paths, file);
+  for (std::size_t i = 0; i < result.size(); ++i) result[i].name = names[i];
   return result;
 }
 
