@@ -428,8 +428,8 @@ tj('angle_zero.json', lambda c: ([c.pop(k, None) for k in ('fl_x', 'fl_y')], c.u
 tj('fl_negative.json', lambda c: c.update(fl_x=-40))
 tj('w_without_h.json', lambda c: (c.pop('h', None), c.update(w=32)))
 tj('w_huge.json', lambda c: c.update(w=100000, h=100000))
-def dup(c):
-    c['frames'][0]['file_path'] = './a/r_1'; c['frames'][1]['file_path'] = './b/r_1'
+def dup(c):  # one image, named with and without its extension: both views are named r_1
+    c['frames'][0]['file_path'] = './r_1'; c['frames'][1]['file_path'] = './r_1.png'
 tj('duplicate_names.json', dup)
 def dup_same(c): c['frames'][2]['file_path'] = c['frames'][0]['file_path']
 tj('duplicate_frame.json', dup_same)
@@ -478,8 +478,7 @@ def nerfstudio(name, change=None, files=None):
 nerfstudio('valid', lambda c: c.update(ply_file_path='sparse_pc.ply'), {'sparse_pc.ply': pc})
 nerfstudio('fisheye', lambda c: c.update(camera_model='OPENCV_FISHEYE'))
 nerfstudio('k3_nonzero', lambda c: c.update(k3=0.1))
-nerfstudio('duplicate_names', lambda c: c['frames'][3].update(file_path='other/view_0.png'),
-           {'other/view_0.png': view})
+nerfstudio('duplicate_names', lambda c: c['frames'][3].update(file_path='views/view_0.png'))
 nerfstudio('ply_missing', lambda c: c.update(ply_file_path='sparse_pc.ply'))
 nerfstudio('ply_garbage', lambda c: c.update(ply_file_path='sparse_pc.ply'), {'sparse_pc.ply': 'Mary had a lamb'})
 nerfstudio('ply_count_huge', lambda c: c.update(ply_file_path='sparse_pc.ply'),
@@ -742,7 +741,7 @@ check "bad value"           "cameras: camera_angle_x 0"     "$TJ/angle_zero.json
 check "bad value"           "cameras: fl_x -40"             "$TJ/fl_negative.json"      splat-render "${R[@]}" --cameras "$TJ/fl_negative.json"
 check "bad value"           "cameras: w without h"          "$TJ/w_without_h.json"      splat-render "${R[@]}" --cameras "$TJ/w_without_h.json"
 check "bad value"           "cameras: w 100000"             "$TJ/w_huge.json"           splat-render "${R[@]}" --cameras "$TJ/w_huge.json"
-check "duplicate output names" "render: two frames r_1"     "$TJ/duplicate_names.json"  splat-render "${R[@]}" --cameras "$TJ/duplicate_names.json"
+check "duplicate output names" "render: frames r_1, r_1.png" "$TJ/duplicate_names.json"  splat-render "${R[@]}" --cameras "$TJ/duplicate_names.json"
 check "duplicate output names" "render: one frame twice"    "$TJ/duplicate_frame.json"  splat-render "${R[@]}" --cameras "$TJ/duplicate_frame.json"
 check "wrong kind of file"  "cameras: a folder"             "$TJ/folder.json"           splat-render "${R[@]}" --cameras "$TJ/folder.json"
 check "missing file"        "cameras: missing"              "$TJ/missing.json"          splat-render "${R[@]}" --cameras "$TJ/missing.json"
@@ -934,7 +933,7 @@ check "truncated file"      "blender: PNG cut before IEND"  "views/view_1.png" s
 check "duplicate output names" "blender: two test views view_1" "$BL/test_duplicate_names/transforms_test.json" splat-train "${TC[@]}" --data "$BL/test_duplicate_names"
 check "bad value"           "nerfstudio: OPENCV_FISHEYE"    "$NS/fisheye/transforms.json"         splat-train "${TC[@]}" --data "$NS/fisheye"
 check "bad value"           "nerfstudio: k3 0.1"            "$NS/k3_nonzero/transforms.json"      splat-train "${TC[@]}" --data "$NS/k3_nonzero"
-check "duplicate output names" "nerfstudio: two view_0"     "$NS/duplicate_names/transforms.json" splat-train "${TC[@]}" --data "$NS/duplicate_names"
+check "duplicate output names" "nerfstudio: view_0 twice"     "$NS/duplicate_names/transforms.json" splat-train "${TC[@]}" --data "$NS/duplicate_names"
 check "missing file"        "nerfstudio: ply_file_path missing" "sparse_pc.ply" splat-train "${TC[@]}" --data "$NS/ply_missing"
 check "wrong kind of file"  "nerfstudio: point cloud prose" "sparse_pc.ply"     splat-train "${TC[@]}" --data "$NS/ply_garbage"
 check "huge count"          "nerfstudio: point cloud 9e8"   "sparse_pc.ply"     splat-train "${TC[@]}" --data "$NS/ply_count_huge"
@@ -1016,7 +1015,7 @@ check "JSON of wrong shape" "eval --report: sweep runs 5"   "$REP/sweep_wrong_sh
 check "nothing created on failure" "eval --report: no \"data\" key" "$REP/results_without_data/results.json" splat-eval --report --quiet --out "$REP/results_without_data"
 check "wrong kind of file"  "eval --report: results.json folder" "$REP/results_folder/results.json" splat-eval --report --quiet --out "$REP/results_folder"
 check "missing file"        "eval --report: no such folder" "$IN/nowhere"      splat-eval --report --quiet --out "$IN/nowhere"
-check "option conflict"     "eval --report with --data"     "--data"     splat-eval --report --quiet --out "$REP/no_result_files" --data "$DS"
+check "option conflict"     "eval --report with --data"     "--data"     splat-eval --report --quiet --out "$IN/ev" --data "$DS"
 
 # ---------------------------------------------------------------------------------------------
 # Summary

@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 
 #include "apps/splat-eval/result_files.hpp"
+#include "splat/core/atomic_file.hpp"
 #include "splat/core/error.hpp"
 
 namespace splat::cli {
@@ -191,16 +192,16 @@ void add_real_capture_curves(const json& stability, std::vector<Chart>& charts) 
 }
 
 void write_data(const Chart& chart, const fs::path& file) {
-  std::ofstream out(file);
-  out << "# " << chart.title << "; one block per series: x y label\n";
-  for (const Series& s : chart.series) {
-    out << "# " << s.title << "\n";
-    for (std::size_t i = 0; i < s.points.size(); ++i)
-      out << s.points[i].first << " " << s.points[i].second << " \""
-          << (i < s.labels.size() ? s.labels[i] : "") << "\"\n";
-    out << "\n\n";
-  }
-  if (!out) throw InputError(file, "cannot write the file");
+  write_stream_atomically(file, [&](std::ostream& out) {
+    out << "# " << chart.title << "; one block per series: x y label\n";
+    for (const Series& s : chart.series) {
+      out << "# " << s.title << "\n";
+      for (std::size_t i = 0; i < s.points.size(); ++i)
+        out << s.points[i].first << " " << s.points[i].second << " \""
+            << (i < s.labels.size() ? s.labels[i] : "") << "\"\n";
+      out << "\n\n";
+    }
+  });
 }
 
 // Each chart goes to a temporary name first and is renamed once gnuplot succeeded.
@@ -225,30 +226,44 @@ std::string chart_script(const std::vector<Chart>& charts) {
 
 }  // namespace
 
-std::vector<std::string> write_charts(const fs::path& out) {
+ChartsDrawn write_charts(const fs::path& out) {
   std::vector<Chart> charts;
-  with_result_file(out / "results.json", [&](const json& results) { add_results_charts(results, charts); });
-  with_result_file(out / "sweep.json", [&](const json& sweep) { add_sweep_charts(sweep, charts); });
+  std::vector<fs::path> read;  // the result files there are
+  with_result_file(out / "results.json", [&](const json& results) {
+    add_results_charts(results, charts);
+    read.push_back(out / "results.json");
+  });
+  with_result_file(out / "sweep.json", [&](const json& sweep) {
+    add_sweep_charts(sweep, charts);
+    read.push_back(out / "sweep.json");
+  });
   with_result_file(out / "stability.json", [&](const json& stability) {
     add_stability_chart(stability, charts);
     add_stability_curves(stability, charts);
     add_real_capture_curves(stability, charts);
+    read.push_back(out / "stability.json");
   });
+  if (read.empty())
+    throw InputError(out, "holds no results.json, sweep.json or stability.json: nothing to report (--report "
+                          "redraws the charts and report of a finished splat-eval run)");
   // gnuplot refuses a plot of nothing: no empty series (a NeRF on the Gaussians chart), and no
   // chart without a series (an older file without the figures).
   for (Chart& c : charts)
     std::erase_if(c.series, [](const Series& s) { return s.points.empty(); });
   std::erase_if(charts, [](const Chart& c) { return c.series.empty(); });
-  if (charts.empty() || std::system("command -v gnuplot > /dev/null 2>&1") != 0) return {};
+  if (charts.empty()) {
+    const std::string problem = "no run has a scored point to chart (every history is empty, no final score)";
+    if (read.size() == 1) throw InputError(read.front(), problem);
+    std::string files;
+    for (const fs::path& file : read) files += (files.empty() ? "" : ", ") + file.filename().string();
+    throw InputError(out, files + ": " + problem);
+  }
+  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) return {.images = {}, .gnuplot_missing = true};
 
   const fs::path dir = out / "charts";
   fs::create_directories(dir);
   for (const Chart& c : charts) write_data(c, dir / (c.name + ".dat"));
-  {
-    std::ofstream script(dir / "charts.gp");
-    script << chart_script(charts);
-    if (!script) throw InputError(dir / "charts.gp", "cannot write the file");
-  }
+  write_stream_atomically(dir / "charts.gp", [&](std::ostream& script) { script << chart_script(charts); });
   const std::string command = "cd " + shell_quoted(dir.string()) + " && gnuplot charts.gp > gnuplot.log 2>&1";
   const int status = std::system(command.c_str());
   if (status != 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
@@ -264,7 +279,7 @@ std::vector<std::string> write_charts(const fs::path& out) {
       fs::rename(dir / (c.name + ".tmp" + ext), dir / (c.name + ext));
       written.push_back("charts/" + c.name + ext);
     }
-  return written;
+  return {.images = written};
 }
 
 }  // namespace splat::cli

@@ -39,8 +39,8 @@ int run_eval_command(const EvalCommandOptions& options) {
 int redraw_report(const std::filesystem::path& out, bool quiet) {
   if (!std::filesystem::is_directory(out)) throw InputError(out, "no such output folder");
   if (!quiet) std::printf("drawing charts and report.html\n");
-  const std::vector<std::string> charts = write_charts(out);
-  if (charts.empty()) std::fprintf(stderr, "warning: gnuplot not found, no charts drawn (install gnuplot-nox)\n");
+  if (write_charts(out).gnuplot_missing)
+    std::fprintf(stderr, "warning: gnuplot not found, no charts drawn (install gnuplot-nox)\n");
   const std::filesystem::path report = write_report(out);
   if (!quiet) std::printf("report: %s\n", report.string().c_str());
   return 0;

@@ -48,7 +48,7 @@ TEST(Conventions, NameEqualsValueIsNameValue) {
                                                 (dir / "m.spz").string() + " --spz-sh-bits=9,9",
                                             dir);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("--spz-sh-bits values must be 1..8"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("option --spz-sh-bits must be 2 comma-separated values, each a whole number from 1 to 8"), std::string::npos) << r.err;
   r = test::run_command(std::string(SPLAT_CONVERT_EXE) + " " + model + " " + (dir / "m.spz").string() +
                             " --spz-sh-bits=8,8",
                         dir);

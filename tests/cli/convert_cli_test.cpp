@@ -59,8 +59,8 @@ TEST(ConvertCli, BadInputIsOneErrorLineAndNoOutput) {
       {conformance_model(), "expected IN and OUT"},
       {(dir / "absent.ply").string() + " " + out, "absent.ply: file does not exist"},
       {conformance_model() + " " + (dir / "out.obj").string(), "out.obj: the output's extension must name"},
-      {conformance_model() + " " + out + " --spz-sh-bits 9,9", "--spz-sh-bits values must be 1..8"},
-      {conformance_model() + " " + out + " --spz-sh-bits 6", "--spz-sh-bits takes two integers"},
+      {conformance_model() + " " + out + " --spz-sh-bits 9,9", "option --spz-sh-bits must be 2 comma-separated values, each a whole number from 1 to 8"},
+      {conformance_model() + " " + out + " --spz-sh-bits 6", "option --spz-sh-bits must be 2 comma-separated values"},
       {conformance_model() + " " + conformance_model(), "the output is the input file"},
   };
   for (const auto& c : cases) {

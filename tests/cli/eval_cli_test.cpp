@@ -487,6 +487,9 @@ TEST(EvalCli, ReportOnDamagedResultFilesNamesTheFileAndLeavesNoTemporaryCharts) 
   };
   const Case cases[] = {
       {"empty_history", R"({"methods": [{)" + method + R"(, "history": []}]})", ""},
+      // Nothing to chart at all: said so, naming the file (not "gnuplot not found").
+      {"no_scores", R"({"methods": [{"method": "splat", "history": []}, {"method": "nerf", "history": []}]})",
+       "results.json: no run has a scored point to chart (every history is empty"},
       {"history_not_an_array", R"({"methods": [{)" + method + R"(, "history": 7}]})", "results.json: "},
       {"history_entry_without_seconds", R"({"methods": [{)" + method + R"(, "history": [{"test_psnr": 20}]}]})",
        "results.json: "},
@@ -520,6 +523,13 @@ TEST(EvalCli, ReportOnDamagedResultFilesNamesTheFileAndLeavesNoTemporaryCharts) 
         EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
     }
   }
+  // A folder without any result file.
+  fs::create_directories(dir / "nothing");
+  const auto r = test::run_command(std::string(SPLAT_EVAL_EXE) + " --report --quiet --out " + (dir / "nothing").string(), dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "error: " + (dir / "nothing").string() + ": holds no results.json, sweep.json or stability.json: "
+                   "nothing to report (--report redraws the charts and report of a finished splat-eval run)\n");
+  EXPECT_TRUE(fs::is_empty(dir / "nothing"));
 }
 
 TEST(EvalCli, RejectsBadOptions) {

@@ -495,7 +495,7 @@ TEST(TrainCli, WritesTheViewsItTrainedAndTestedOnAsTransformsFilesAndHoldsOutWha
                             (dir / "bad").string() + " --holdout-every -1",
                         dir);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("--holdout-every must be >= 0"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("option --holdout-every must be a whole number from 0 to"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "bad"));
 }
 
