@@ -31,21 +31,38 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+// The last error GLFW reported before the window opened, and whether it has.
+std::string g_glfw_error;
+bool g_window_open = false;
+
+std::string glfw_reason(const std::string& otherwise) {
+  return g_glfw_error.empty() ? otherwise : "GLFW: " + g_glfw_error;
+}
+
 // GLFW and ImGui set up in the constructor and torn down in the destructor, whatever path
 // leaves the viewer: no window is ever left behind.
 class Window {
  public:
   Window(int width, int height, const std::string& title) {
-    glfwSetErrorCallback([](int, const char* text) { std::fprintf(stderr, "GLFW: %s\n", text); });
-    if (!glfwInit()) throw Error("cannot open a window: GLFW found no display (set DISPLAY, or run under xvfb-run)");
+    // GLFW's reason goes into our one error line (printed by itself, it made two lines);
+    // once the window is open, its messages are printed as they come.
+    glfwSetErrorCallback([](int, const char* text) {
+      if (g_window_open) std::fprintf(stderr, "GLFW: %s\n", text);
+      else g_glfw_error = text;
+    });
+    if (!glfwInit())
+      throw Error("cannot open a window: " + glfw_reason("GLFW found no display") +
+                  " (set DISPLAY, or run under xvfb-run)");
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 2);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 1);
     glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
     window_ = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
     if (!window_) {
       glfwTerminate();
-      throw Error("cannot open a window: GLFW could not create an OpenGL 2.1 context");
+      throw Error("cannot open a window: GLFW could not create an OpenGL 2.1 context (" +
+                  glfw_reason("no reason given") + ")");
     }
+    g_window_open = true;
     glfwMakeContextCurrent(window_);
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
@@ -60,6 +77,7 @@ class Window {
     ImGui::DestroyContext();
     glfwDestroyWindow(window_);
     glfwTerminate();
+    g_window_open = false;
   }
   GLFWwindow* get() const { return window_; }
 

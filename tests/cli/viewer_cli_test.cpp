@@ -3,6 +3,7 @@
 // (a NeRF among them, refined to full resolution), and bad input exits 2 without a window.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
@@ -173,6 +174,21 @@ TEST(ViewerCli, WatchShowsTheSnapshotsOfARunningTraining) {
                                       dir);
   EXPECT_EQ(zero.exit_code, 2);
   EXPECT_NE(zero.err.find("option --snapshot-every must be a number from 0.1 to"), std::string::npos) << zero.err;
+}
+
+// Without a display the viewer says so in one line, with GLFW's reason in it (GLFW's own
+// message printed beside ours made two).
+TEST(ViewerCli, WithoutADisplayOneErrorLineGivesGlfwsReason) {
+  const fs::path dir = test::scratch_dir("viewer_cli_no_display");
+  ASSERT_EQ(test::run_command(std::string(SPLAT_DEMO_EXE) + " --out " + (dir / "demo").string() +
+                                  " --gaussians 200 --views 1 --size 32", dir)
+                .exit_code, 0);
+  const auto r = test::run_command("env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(SPLAT_VIEWER_EXE) + " " +
+                                       (dir / "demo" / "model.ply").string(), dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err.rfind("error: cannot open a window: GLFW: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("(set DISPLAY, or run under xvfb-run)"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
 }  // namespace
