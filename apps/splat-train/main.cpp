@@ -78,14 +78,37 @@ otherwise they rejoin training (settings validation_*, metrics.json "validation"
 template <class Config>
 void apply_options(const splat::cli::ArgParser& args, Config& config,
                    splat::cli::TrainCommandOptions& options) {
-  if (auto file = args.value("config")) splat::read_config_file(*file, config);
-  if (auto n = args.integer("iters", splat::setting_ranges::kPositiveIterations)) config.iterations = *n;
-  if (auto s = args.number("max-seconds", {0.01, splat::kMaxTrainingSeconds})) config.max_seconds = *s;
+  if (auto file = args.value("config")) {
+    const nlohmann::json settings = splat::read_config_json(*file);
+    splat::apply_config_json(*file, settings, config);
+    for (const auto& [key, value] : settings.items()) options.given[key] = "--config " + *file;
+  }
+  // Each option that sets a config key records it (given), for --resume to compare.
+  const auto given = [&](const char* option, const char* key) { options.given[key] = std::string("--") + option; };
+  if (auto n = args.integer("iters", splat::setting_ranges::kPositiveIterations)) {
+    config.iterations = *n;
+    given("iters", "iterations");
+  }
+  if (auto s = args.number("max-seconds", {0.01, splat::kMaxTrainingSeconds})) {
+    config.max_seconds = *s;
+    given("max-seconds", "max_seconds");
+  }
   const std::array<float, 3> bg = args.colour("bg").value_or(std::array<float, 3>{1, 1, 1});
   for (int c = 0; c < 3; ++c) config.background[c] = options.dataset.background[c] = bg[c];
-  if (auto seed = args.integer("seed", {0, 2147483647})) config.seed = unsigned(*seed);
-  if (auto n = args.integer("test-every", splat::setting_ranges::kIterations)) config.test_interval = *n;
-  if (auto n = args.integer("checkpoint-every", splat::setting_ranges::kIterations)) config.checkpoint_interval = *n;
+  if (args.value("bg"))  // the splats' config names each channel, the NeRF's the triple
+    for (const char* key : {"background", "background_r", "background_g", "background_b"}) given("bg", key);
+  if (auto seed = args.integer("seed", {0, 2147483647})) {
+    config.seed = unsigned(*seed);
+    given("seed", "seed");
+  }
+  if (auto n = args.integer("test-every", splat::setting_ranges::kIterations)) {
+    config.test_interval = *n;
+    given("test-every", "test_interval");
+  }
+  if (auto n = args.integer("checkpoint-every", splat::setting_ranges::kIterations)) {
+    config.checkpoint_interval = *n;
+    given("checkpoint-every", "checkpoint_interval");
+  }
 }
 
 // splat-train's work in this process (alone, or one rank of a data-parallel run).
@@ -130,11 +153,23 @@ int train_main(int argc, char** argv, splat::ProcessGroup* ranks) {
     if (strategy && options.config.strategy != *strategy)
       throw splat::ArgumentError("--strategy " + *strategy + " conflicts with the config file's strategy '" +
                                  options.config.strategy + "'");
-    if (auto n = args.integer("max-gaussians", {1, splat::kMaxGaussiansSetting}))
+    if (strategy) options.given["strategy"] = "--strategy";
+    if (auto n = args.integer("max-gaussians", {1, splat::kMaxGaussiansSetting})) {
       options.config.density.max_gaussians = std::size_t(*n);
-    if (auto n = args.integer("batch", {1, splat::kMaxBatchViews})) options.config.batch = *n;
-    if (args.has("refine-poses")) options.config.refine_poses = true;
-    if (args.has("exposure-compensation")) options.config.exposure_compensation = true;
+      options.given["max_gaussians"] = "--max-gaussians";
+    }
+    if (auto n = args.integer("batch", {1, splat::kMaxBatchViews})) {
+      options.config.batch = *n;
+      options.given["batch"] = "--batch";
+    }
+    if (args.has("refine-poses")) {
+      options.config.refine_poses = true;
+      options.given["refine_poses"] = "--refine-poses";
+    }
+    if (args.has("exposure-compensation")) {
+      options.config.exposure_compensation = true;
+      options.given["exposure_compensation"] = "--exposure-compensation";
+    }
   }
   if (auto n = args.integer("threads", splat::cli::kThreadsRange)) options.threads = *n;
   if (auto k = args.integer("downscale", splat::kDownscaleRange)) options.dataset.downscale = *k;

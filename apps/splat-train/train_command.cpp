@@ -182,7 +182,11 @@ void TrainingRun::on_score(const Evaluation& evaluation, double, const LoopState
 int TrainingRun::run() {
   if (options_.resume) {
     const fs::path file = checkpoint_file(*options_.resume);
-    trainer_->load_checkpoint(file);
+    trainer_->load_checkpoint(file, options_.given);
+    schedule_ = trainer_->schedule();  // the checkpoint's run, with the limits given now
+    if (schedule_.iterations < trainer_->iteration())
+      throw ArgumentError("--iters " + std::to_string(schedule_.iterations) + " is below the checkpoint's iteration " +
+                          std::to_string(trainer_->iteration()) + ": give more, or leave --iters out");
     const fs::path old_metrics = file.parent_path() / "metrics.json";
     if (fs::exists(old_metrics)) {
       try {

@@ -7,6 +7,7 @@
 #include "splat/data/dataset.hpp"
 #include "splat/train/nerf_trainer.hpp"
 #include "splat/train/process_group.hpp"
+#include "splat/train/resume_settings.hpp"
 #include "splat/train/training_config.hpp"
 
 namespace splat::cli {
@@ -18,6 +19,9 @@ struct TrainCommandOptions {
   SplatTrainingConfig config;
   NerfTrainingConfig nerf_config;
   DatasetOptions dataset;
+  // The settings the command line gave (config keys → option), which --resume compares with
+  // the checkpoint's (splat/train/resume_settings.hpp).
+  GivenSettings given;
   int threads = 0;               // 0 = all cores
   bool quiet = false;            // no progress bar / lines
   // > 0: every this many seconds of wall time, the model so far replaces DIR/snapshot.ply

@@ -56,6 +56,7 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
   header["adam_step"] = adam_.step;
   header["view_stack"] = view_stack_;
   header["train_views"] = dataset_.train.size();
+  header["downscale"] = dataset_.downscale;
   std::ostringstream rng_state;
   rng_state << rng_;
   header["rng"] = rng_state.str();
@@ -84,7 +85,7 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
   });
 }
 
-void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
+void SplatTrainer::load_checkpoint(const std::filesystem::path& file, const GivenSettings& given) {
   std::error_code ec;
   const std::uint64_t file_size = std::filesystem::file_size(file, ec);
   if (ec) throw InputError(file, "cannot open the checkpoint: " + ec.message());
@@ -107,15 +108,18 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file) {
   try {
     header = nlohmann::json::parse(text);
     SplatTrainingConfig config = config_;
-    from_json(header.at("config"), config);
+    from_json(resumed_settings(header.at("config"), to_json(config_), given), config);
     if (header.at("train_views").get<std::size_t>() != dataset_.train.size())
       throw InputError(file, "checkpoint was written for " +
                                  std::to_string(header.at("train_views").get<std::size_t>()) +
                                  " training views, this dataset has " +
                                  std::to_string(dataset_.train.size()));
-    // Keep the limits the user asked for now (they may extend the run); the rest resumes.
-    config.iterations = config_.iterations;
-    config.max_seconds = config_.max_seconds;
+    if (const auto downscale = header.find("downscale");
+        downscale != header.end() && downscale->get<int>() != dataset_.downscale)
+      throw InputError(file, "checkpoint was trained on the images at 1/" + std::to_string(downscale->get<int>()) +
+                                 " of their size, this run loads them at 1/" + std::to_string(dataset_.downscale) +
+                                 ": give --downscale " + std::to_string(downscale->get<int>()) +
+                                 " (or train afresh into another --out)");
     config_ = config;
     const SettingRange iterations{0, kMaxTrainingIterations}, sh_degrees{0, kMaxShDegree};
     iteration_ = read_setting<int>(header.at("iteration"), "iteration", iterations);

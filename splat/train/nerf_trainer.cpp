@@ -31,7 +31,7 @@ using training::ms_since;
 constexpr char kCheckpointMagic[8] = {'S', 'P', 'L', 'N', 'R', 'F', 'C', 'K'};
 // Version 2 adds the parameter average; a version-1 checkpoint resumes with the average
 // restarted at its parameters.
-constexpr std::uint32_t kCheckpointVersion = 2;
+constexpr std::uint32_t kCheckpointVersion = 3;  // 3: the settings follow the random state
 
 void write_floats(std::ostream& out, std::span<const float> v) {
   const std::uint64_t n = v.size();
@@ -211,6 +211,10 @@ void NerfTrainer::save_checkpoint(const std::filesystem::path& file) const {
     const std::uint64_t rng_length = rng.size();
     out.write(reinterpret_cast<const char*>(&rng_length), sizeof(rng_length));
     out.write(rng.data(), std::streamsize(rng.size()));
+    const std::string settings = to_json(config_).dump();
+    const std::uint64_t settings_length = settings.size();
+    out.write(reinterpret_cast<const char*>(&settings_length), sizeof(settings_length));
+    out.write(settings.data(), std::streamsize(settings.size()));
     write_nerf_to(out, model_);
     write_nerf_to(out, last_good_model_);
     write_floats(out, coarse_adam_.first_moment());
@@ -222,7 +226,7 @@ void NerfTrainer::save_checkpoint(const std::filesystem::path& file) const {
   });
 }
 
-void NerfTrainer::load_checkpoint(const std::filesystem::path& file) {
+void NerfTrainer::load_checkpoint(const std::filesystem::path& file, const GivenSettings& given) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file, "cannot open the checkpoint");
   char magic[8] = {};
@@ -243,8 +247,25 @@ void NerfTrainer::load_checkpoint(const std::filesystem::path& file) {
                                std::to_string(kMaxTrainingIterations) + "]");
   std::string rng(rng_length, '\0');
   in.read(rng.data(), std::streamsize(rng_length));
+  NerfTrainingConfig config = config_;
+  if (version >= 3) {
+    std::uint64_t settings_length = 0;
+    in.read(reinterpret_cast<char*>(&settings_length), sizeof(settings_length));
+    if (!in || settings_length > (1u << 20)) throw InputError(file, "truncated checkpoint header");
+    std::string settings(settings_length, '\0');
+    in.read(settings.data(), std::streamsize(settings_length));
+    if (!in) throw InputError(file, "truncated checkpoint header");
+    try {
+      from_json(resumed_settings(nlohmann::json::parse(settings), to_json(config_), given), config);
+      config = validated(config);
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(file, "checkpoint settings are malformed: " + json_error_text(e));
+    } catch (const ArgumentError& e) {
+      throw InputError(file, e.what());
+    }
+  }
   NerfModel model = read_nerf_from(in, file), last_good = read_nerf_from(in, file);
-  if (!(model.settings.coarse == config_.model.coarse) || !(model.settings.fine == config_.model.fine))
+  if (!(model.settings.coarse == config.model.coarse) || !(model.settings.fine == config.model.fine))
     throw InputError(file, "the checkpoint's networks differ from this run's settings");
   FlatAdam coarse_adam(model.coarse.parameter_count()), fine_adam(model.fine.parameter_count());
   read_floats(in, coarse_adam.first_moment(), file, "optimiser state");
@@ -263,6 +284,7 @@ void NerfTrainer::load_checkpoint(const std::filesystem::path& file) {
   std::mt19937 restored_rng;
   rng_text >> restored_rng;
   if (!rng_text) throw InputError(file, "bad random state in the checkpoint");
+  config_ = config;
   model_ = std::move(model);
   averaged_ = std::move(averaged);
   last_good_model_ = std::move(last_good);

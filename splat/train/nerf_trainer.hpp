@@ -15,6 +15,7 @@
 #include "splat/optim/flat_adam.hpp"
 #include "splat/train/evaluation.hpp"
 #include "splat/train/nerf_training_config.hpp"
+#include "splat/train/resume_settings.hpp"
 #include "splat/train/step_result.hpp"
 
 namespace splat {
@@ -48,7 +49,9 @@ class NerfTrainer {
   // Fault injection for the tests of the divergence path: sets one fine-network weight to NaN.
   void inject_non_finite_parameter() { model_.fine.parameters()[0] = std::nanf(""); }
   void save_checkpoint(const std::filesystem::path& file) const;
-  void load_checkpoint(const std::filesystem::path& file);
+  // As SplatTrainer::load_checkpoint (checkpoints of version 1 and 2 carry no settings: this
+  // run's apply).
+  void load_checkpoint(const std::filesystem::path& file, const GivenSettings& given = {});
 
   // The rate the next step takes (the decay above).
   float learning_rate() const;

@@ -28,6 +28,7 @@
 #include "splat/train/validation_holdout.hpp"
 #include "splat/train/view_corrections.hpp"
 #include "splat/train/view_step.hpp"
+#include "splat/train/resume_settings.hpp"
 
 namespace splat {
 
@@ -100,9 +101,10 @@ class SplatTrainer {
   // Everything needed to continue exactly where training stopped (model, Adam state,
   // densification statistics, random state, view order), written atomically.
   void save_checkpoint(const std::filesystem::path& file) const;
-  // Restores a checkpoint written by save_checkpoint; throws InputError naming the file if it
-  // is not one or was written for different data.
-  void load_checkpoint(const std::filesystem::path& file);
+  // Restores a checkpoint written by save_checkpoint, with the settings it was written with
+  // but the limits and intervals `given` (resume_settings.hpp); throws InputError naming the
+  // file if it is not one, was written for different data, or `given` changes its settings.
+  void load_checkpoint(const std::filesystem::path& file, const GivenSettings& given = {});
 
  private:
   std::size_t next_view();

@@ -46,7 +46,9 @@ class DelegatingAdapter : public TrainerAdapter {
   int iteration() const override { return trainer_.iteration(); }
   void check_parameters_finite() const override { trainer_.check_parameters_finite(); }
   void save_checkpoint(const std::filesystem::path& file) const override { trainer_.save_checkpoint(file); }
-  void load_checkpoint(const std::filesystem::path& file) override { trainer_.load_checkpoint(file); }
+  void load_checkpoint(const std::filesystem::path& file, const GivenSettings& given) override {
+    trainer_.load_checkpoint(file, given);
+  }
   nlohmann::json config_json() const override { return to_json(trainer_.config()); }
 
  protected:

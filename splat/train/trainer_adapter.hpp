@@ -53,7 +53,7 @@ class TrainerAdapter {
   virtual std::string model_size() const = 0;     // for the progress line
   virtual void check_parameters_finite() const = 0;
   virtual void save_checkpoint(const std::filesystem::path& file) const = 0;
-  virtual void load_checkpoint(const std::filesystem::path& file) = 0;
+  virtual void load_checkpoint(const std::filesystem::path& file, const GivenSettings& given) = 0;
   virtual std::string model_file_name() const = 0;  // "model.ply" | "model.nerf"
   virtual void write_model(const std::filesystem::path& file) const = 0;
   virtual void write_last_good_model(const std::filesystem::path& file) const = 0;

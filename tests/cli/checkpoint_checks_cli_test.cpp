@@ -44,7 +44,7 @@ TEST(CheckpointChecks, DamagedSplatCheckpointsAreCleanErrorsNamingTheFile) {
       {"negative iteration", [](test::CheckpointParts& p) { p.header["iteration"] = -7; }, "iteration"},
       {"SH degree 9", [](test::CheckpointParts& p) { p.header["sh_degree"] = 9; }, "sh_degree"},
       {"garbage RNG", [](test::CheckpointParts& p) { p.header["rng"] = "not a state at all"; }, "rng"},
-      {"bad config value", [](test::CheckpointParts& p) { p.header["config"]["iterations"] = -5; }, "iterations"},
+      {"bad config value", [](test::CheckpointParts& p) { p.header["config"]["seed"] = -5; }, "seed"},
       {"NaN parameter",
        [](test::CheckpointParts& p) {
          const float nan = std::nanf("");

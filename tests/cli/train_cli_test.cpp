@@ -167,6 +167,47 @@ TEST(TrainCli, ResumeContinuesExactly) {
   }
 }
 
+// The checkpoint fixes the run's settings: --resume continues that run (its strategy, its
+// iteration budget when no --iters is given), an option that would change a setting it
+// fixes is refused naming the option, the same value is no change, and the limits and
+// intervals given are applied and recorded in config.json.
+TEST(TrainCli, ResumeKeepsTheCheckpointsSettingsRefusesChangesAndTakesNewLimits) {
+  const fs::path dir = test::scratch_dir("train_cli_resume_settings");
+  const fs::path out = dir / "out";
+  auto r = test::run_command(train_command(out, "--strategy official --iters 20 --checkpoint-every 20 --quiet"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string resume = " --quiet --resume " + out.string();
+  // No --strategy and no --iters: the official run's 20 iterations, not the compact default's.
+  r = test::run_command(train_command(out, resume), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_json(out / "metrics.json").at("iterations"), 20);
+  EXPECT_EQ(read_json(out / "config.json").at("strategy"), "official");
+  EXPECT_EQ(read_json(out / "config.json").at("iterations"), 20);
+  const std::string model = test::read_file(out / "model.ply");
+  // Options that change what the checkpoint fixes.
+  for (const std::string& change : {std::string("--strategy compact"), std::string("--seed 3"),
+                                    std::string("--bg black"), std::string("--max-gaussians 100")}) {
+    r = test::run_command(train_command(out, change + resume), dir);
+    EXPECT_EQ(r.exit_code, 2) << change;
+    const std::string option = change.substr(0, change.find(' '));
+    EXPECT_EQ(r.err.rfind("error: " + (out / "checkpoint.ckpt").string() + ": " + option + " sets ", 0), 0u)
+        << change << ": " << r.err;
+    EXPECT_NE(r.err.find("a resumed run keeps its settings"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_TRUE(test::read_file(out / "model.ply") == model) << change << ": the refused run wrote a model";
+  }
+  // The same values are no change; new limits and intervals apply and are recorded.
+  r = test::run_command(train_command(out, "--strategy official --seed 0 --iters 40 --test-every 20" + resume), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_json(out / "metrics.json").at("iterations"), 40);
+  EXPECT_EQ(read_json(out / "config.json").at("iterations"), 40);
+  EXPECT_EQ(read_json(out / "config.json").at("test_interval"), 20);
+  // A limit below where the checkpoint is cannot be met.
+  r = test::run_command(train_command(out, "--iters 30" + resume), dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--iters 30 is below the checkpoint's iteration 40"), std::string::npos) << r.err;
+}
+
 // Pruning by the share of views that draw a Gaussian keeps per-window counts of views: a
 // checkpoint taken mid-window (windows of 16 views here) carries them, and older checkpoints,
 // which lack them, need them only when a setting is on.

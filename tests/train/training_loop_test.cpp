@@ -52,7 +52,7 @@ class FakeTrainer final : public TrainerAdapter {
   std::size_t num_params() const override { return 0; }
   std::string model_size() const override { return ""; }
   void save_checkpoint(const std::filesystem::path&) const override {}
-  void load_checkpoint(const std::filesystem::path&) override {}
+  void load_checkpoint(const std::filesystem::path&, const GivenSettings&) override {}
   std::string model_file_name() const override { return "model.fake"; }
   void write_model(const std::filesystem::path&) const override {}
   void write_last_good_model(const std::filesystem::path&) const override {}
