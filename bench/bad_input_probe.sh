@@ -218,6 +218,8 @@ cat >"$IN/tiny_nerf.json" <<'EOF'
  "position_frequencies": 2, "direction_frequencies": 1}, "coarse_samples": 8, "fine_samples": 4,
  "occupancy_resolution": 8}}
 EOF
+sed 's/"width": 8, "color_width": 8, "depth": 1, "position/"width": 16, "color_width": 8, "depth": 1, "position/' \
+  "$IN/tiny_nerf.json" >"$IN/other_nerf.json"
 setup splat-train --data "$IN/ds" --out "$IN/tr" --iters 10 --checkpoint-every 10 --threads 1 --quiet --config "$IN/tiny_splat.json"
 setup splat-train --data "$IN/ds" --out "$IN/trn" --method nerf --iters 10 --checkpoint-every 10 --threads 1 --quiet --config "$IN/tiny_nerf.json"
 setup splat-convert "$IN/demo/model.ply" "$IN/model.splat"
@@ -609,6 +611,8 @@ def report(name, files):
 r = json.loads(json.dumps(results))
 for m in r['methods']: m['history'] = []
 report('empty_histories', {'results.json': json.dumps(r)})
+report('nothing_scored', {'results.json': json.dumps({'methods': [{'method': 'splat', 'history': []},
+                                                                 {'method': 'nerf', 'history': []}]})})
 report('no_result_files', {})
 report('results_malformed', {'results.json': '{"methods": ['})
 r = json.loads(json.dumps(results)); r['methods'][0]['final']['psnr'] = 'high'
@@ -981,7 +985,8 @@ check "resume"              "resume: other dataset (same count)" "$CK"          
 check "resume"              "resume: other dataset (3 views)" "$CK"                   splat-train "${TC[@]}" --data "$BL/three_views" --resume "$CK"
 check "resume"              "resume: NeRF checkpoint, splat run" "$NCK"               splat-train "${TC[@]}" --resume "$NCK"
 check "resume"              "resume: splat checkpoint, NeRF run" "$CK"                splat-train "${TN[@]}" --resume "$CK"
-check "resume"              "resume: NeRF, other network shape" "$NCK"                splat-train --data "$DS" --out "$NEW" --iters 20 --threads 1 --quiet --method nerf --resume "$NCK"
+# The checkpoint carries its networks (version 3): a config with other ones is refused.
+check "resume"              "resume: NeRF, other network shape" "--config"            splat-train --data "$DS" --out "$NEW" --iters 20 --threads 1 --quiet --method nerf --config "$IN/other_nerf.json" --resume "$NCK"
 check "resume"              "resume: --strategy official on compact" "--strategy"     splat-train "${TC[@]}" --strategy official --resume "$CK"
 check "resume"              "resume: --iters below checkpoint" "--iters"              splat-train "${TC[@]}" --iters 5 --resume "$CK"
 check "huge count"          "resume nerf: RNG length 2^40"  "$NCKD/rng_length_huge.ckpt" splat-train "${TN[@]}" --resume "$NCKD/rng_length_huge.ckpt"
@@ -1007,7 +1012,9 @@ check "malformed JSON"      "eval: Blender train JSON cut"  "$BL/train_malformed
 check "wrong kind of file"  "eval --out is a file"          "$IN/a_file"       splat-eval "${E[@]}" --out "$IN/a_file"
 check "unknown option"      "eval --budget"                 "--budget"   splat-eval "${E[@]}" --budget 5
 check "missing required option" "eval without --data"       "--data"     splat-eval --out "$NEW" --max-seconds 1
-check "empty report"        "eval --report: empty histories" "$REP/empty_histories/results.json" splat-eval --report --quiet --out "$REP/empty_histories"
+# Empty histories beside final scores still chart the finals (PSNR against size): a report.
+control "eval --report: empty histories, final scores" splat-eval --report --quiet --out "$REP/empty_histories"
+check "empty report"        "eval --report: nothing scored" "$REP/nothing_scored/results.json" splat-eval --report --quiet --out "$REP/nothing_scored"
 check "empty report"        "eval --report: no result files" "$REP/no_result_files" splat-eval --report --quiet --out "$REP/no_result_files"
 check "malformed JSON"      "eval --report: results cut"    "$REP/results_malformed/results.json"  splat-eval --report --quiet --out "$REP/results_malformed"
 check "JSON of wrong shape" "eval --report: psnr \"high\""  "$REP/results_wrong_type/results.json" splat-eval --report --quiet --out "$REP/results_wrong_type"

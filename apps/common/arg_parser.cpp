@@ -1,6 +1,7 @@
 #include "apps/common/arg_parser.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -127,11 +128,11 @@ std::vector<std::string> comma_separated(const std::string& text) {
 
 // `word` as a number within `range` (whole when `whole`), or nullopt.
 std::optional<double> parse_in_range(const std::string& word, bool whole, const SettingRange& range) {
-  char* end = nullptr;
-  errno = 0;
-  const double parsed = std::strtod(word.c_str(), &end);
-  if (word.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(parsed) || parsed < range.lo ||
-      parsed > range.hi || (whole && parsed != std::floor(parsed)))
+  // Decimal only (from_chars reads no hex, no leading blanks and no "+"), and every character.
+  double parsed = 0;
+  const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), parsed);
+  if (word.empty() || error != std::errc() || end != word.data() + word.size() || !std::isfinite(parsed) ||
+      parsed < range.lo || parsed > range.hi || (whole && parsed != std::floor(parsed)))
     return std::nullopt;
   return parsed;
 }

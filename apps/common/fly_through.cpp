@@ -138,6 +138,7 @@ int run_fly_through(const RenderCommandOptions& options) {
   if (!options.video.empty()) {
     if (const std::string problem = video_extension_problem(options.video); !problem.empty())
       throw InputError(options.video, problem);
+    check_output_file_path(options.video);
     ffmpeg = find_ffmpeg();
     if (!ffmpeg) throw Error("--video encodes with ffmpeg, which is not installed (apt-get install ffmpeg)");
   }

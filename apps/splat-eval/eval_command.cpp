@@ -39,6 +39,7 @@ int run_eval_command(const EvalCommandOptions& options) {
 int redraw_report(const std::filesystem::path& out, bool quiet) {
   if (!std::filesystem::is_directory(out)) throw InputError(out, "no such output folder");
   if (!quiet) std::printf("drawing charts and report.html\n");
+  report_html(out);  // reads every result file: a damaged one fails before any chart is drawn
   if (write_charts(out).gnuplot_missing)
     std::fprintf(stderr, "warning: gnuplot not found, no charts drawn (install gnuplot-nox)\n");
   const std::filesystem::path report = write_report(out);

@@ -14,7 +14,7 @@ std::optional<std::string> splat_strategy(const std::string& method) {
   if (method == "nerf") return std::nullopt;
   std::string known;
   for (const char* name : kEvalMethods) known += std::string(known.empty() ? "" : ", ") + name;
-  throw ArgumentError("unknown method '" + method + "' (known: " + known + ")");
+  throw ArgumentError("--methods: unknown method '" + method + "' (known: " + known + ")");
 }
 
 std::vector<std::string> methods_to_run(const EvalCommandOptions& options) {

@@ -103,7 +103,18 @@ int main(int argc, char** argv) {
       return 0;
     }
     args.expect_no_positionals();
-    if (args.has("report")) return splat::cli::redraw_report(args.required("out"), args.has("quiet"));
+    if (args.has("report")) {
+      // The report is redrawn from the result files in --out alone: an option that would
+      // change a run is a mistake, not something to ignore.
+      for (const char* option : {"data", "methods", "max-seconds", "eval-every-seconds", "downscale", "splat-config",
+                                 "nerf-config", "sweep-gaussians", "stability-views", "stability-conditions",
+                                 "pose-noise", "fly-through", "bg"})
+        if (args.value(option))
+          throw splat::ArgumentError(std::string("--report redraws the report from --out alone; --") + option +
+                                     " is for a run");
+      if (args.has("stability")) throw splat::ArgumentError("--report redraws the report from --out alone; --stability is for a run");
+      return splat::cli::redraw_report(args.required("out"), args.has("quiet"));
+    }
     splat::cli::EvalCommandOptions options;
     options.data = args.required("data");
     options.out = args.required("out");

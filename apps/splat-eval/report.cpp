@@ -242,7 +242,7 @@ void stability_section(std::ostream& html, const fs::path& out, const json& s) {
 
 }  // namespace
 
-fs::path write_report(const fs::path& out) {
+std::string report_html(const fs::path& out) {
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>splat-eval report</title>\n"
           "<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}"
@@ -258,9 +258,13 @@ fs::path write_report(const fs::path& out) {
   with_result_file(out / "stability.json", [&](const json& stability) { stability_section(html, out, stability), any = true; });
   if (!any) html << "<p>No results in this folder yet.</p>\n";
   html << "</body></html>\n";
+  return html.str();
+}
 
+fs::path write_report(const fs::path& out) {
+  const std::string html = report_html(out);
   const fs::path file = out / "report.html";
-  write_stream_atomically(file, [&](std::ostream& stream) { stream << html.str(); });
+  write_stream_atomically(file, [&](std::ostream& stream) { stream << html; });
   return file;
 }
 

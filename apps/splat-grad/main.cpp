@@ -95,6 +95,8 @@ int main(int argc, char** argv) {
     }
     const fs::path model_file = args.required("model"), cameras_file = args.required("cameras");
     const fs::path weights_file = args.required("weights"), out_file = args.required("out");
+    splat::check_output_file_path(out_file);
+    if (auto image_file = args.value("image")) splat::check_output_file_path(*image_file);
     const std::optional<int> view_option = args.integer("view", splat::cli::kViewIndexRange);
     if (!view_option) throw splat::ArgumentError("missing required option --view");
     const int view = *view_option;

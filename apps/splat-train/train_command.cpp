@@ -1,5 +1,6 @@
 #include "apps/splat-train/train_command.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include "apps/common/thread_limit.hpp"
 #include "apps/common/progress_reporter.hpp"
 #include "splat/core/atomic_file.hpp"
+#include "splat/core/json_file.hpp"
 #include "splat/data/image_io.hpp"
 #include "splat/eval/quality_levels.hpp"
 #include "splat/optim/step_events.hpp"
@@ -189,14 +191,19 @@ int TrainingRun::run() {
                           std::to_string(trainer_->iteration()) + ": give more, or leave --iters out");
     const fs::path old_metrics = file.parent_path() / "metrics.json";
     if (fs::exists(old_metrics)) {
-      try {
-        std::ifstream in(old_metrics);
-        const auto j = nlohmann::json::parse(in);
-        history_ = j.at("history");
-        resumed_seconds_ = j.at("train_seconds").get<double>();
-      } catch (const std::exception&) {
-        // An unreadable old history only loses the curve before the resume point.
-      }
+      // The history before the resume point continues in the new metrics.json: a file that is
+      // not what splat-train writes is named, not silently dropped (or half used).
+      const nlohmann::json j = read_json_file(old_metrics, "metrics file");
+      const auto history = j.find("history");
+      const auto seconds = j.find("train_seconds");
+      if (!j.is_object() || history == j.end() || !history->is_array() || seconds == j.end() ||
+          !seconds->is_number() || !(seconds->get<double>() >= 0) ||
+          !std::all_of(history->begin(), history->end(), [](const nlohmann::json& e) { return e.is_object(); }))
+        throw InputError(old_metrics, "not the metrics.json splat-train writes (no \"history\" array of entries or "
+                                      "no \"train_seconds\"): move it away to resume without the history before "
+                                      "the checkpoint");
+      history_ = *history;
+      resumed_seconds_ = seconds->get<double>();
     }
     if (!options_.quiet)
       progress_.message("resumed from " + file.string() + " at iteration " +

@@ -88,6 +88,8 @@ int main(int argc, char** argv) {
     if (auto f = args.number("fps", {1, 240})) options.target_fps = *f;
     if (auto s = args.value("screenshot")) options.screenshot = *s;
     options.screenshot_overlay = args.has("screenshot-overlay");
+    if (options.screenshot_overlay && !args.value("screenshot"))
+      throw splat::ArgumentError("--screenshot-overlay goes with --screenshot FILE, which is missing");
     options.show_help = args.has("show-help");
     if (auto s = args.number("bench-orbit", {0.1, 3600})) options.bench_seconds = *s;
 

@@ -48,4 +48,9 @@ void write_stream_atomically(const std::filesystem::path& file, const std::funct
   });
 }
 
+void check_output_file_path(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw InputError(file, "is a folder; the output must be a file");
+}
+
 }  // namespace splat

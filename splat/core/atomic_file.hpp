@@ -20,4 +20,8 @@ void write_atomically(const std::filesystem::path& file,
 // written then.
 void write_stream_atomically(const std::filesystem::path& file, const std::function<void(std::ostream& out)>& write);
 
+// InputError when an output file's path names a folder: found before the work, not at the
+// rename that ends it (after other outputs are written).
+void check_output_file_path(const std::filesystem::path& file);
+
 }  // namespace splat

@@ -9,8 +9,9 @@
 
 namespace splat {
 
-std::string json_error_text(const std::exception& e) {
-  const std::string message = e.what();
+std::string json_error_text(const std::exception& e) { return json_error_text(std::string(e.what())); }
+
+std::string json_error_text(const std::string& message) {
   if (message.rfind("[json.exception.", 0) != 0) return message;
   const std::size_t end = message.find("] ");
   return end == std::string::npos ? message : message.substr(end + 2);

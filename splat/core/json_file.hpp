@@ -12,6 +12,8 @@ namespace splat {
 // line 3, column 5: ...": the prefix identifies the library's exception class, which says
 // nothing to a user.
 std::string json_error_text(const std::exception& e);
+// The same for a message another library passed on (tinygltf's parse errors).
+std::string json_error_text(const std::string& message);
 
 enum class JsonComments { kRefused, kAllowed };
 

@@ -257,6 +257,9 @@ Dataset load_dataset(const fs::path& folder, const DatasetOptions& options) {
                      "and points3D (COLMAP)");
   }
   dataset.scene_extent = dataset_detail::scene_extent(dataset.train);
+  if (std::size_t(std::max(0, options.train_views)) > dataset.train.size())
+    throw InputError(folder, "--train-views " + std::to_string(options.train_views) + " asks for more views than the " +
+                                 std::to_string(dataset.train.size()) + " training views the dataset has");
   if (options.train_views > 0) keep_training_views(dataset, options.train_views);
   for (std::vector<DatasetView>* views : {&dataset.train, &dataset.test})
     for (DatasetView& view : *views) view.frame_background_share = frame_background_share(view.image, options.background);

@@ -337,9 +337,15 @@ GaussianModel read_ply(const std::filesystem::path& file) {
     throw InputError(file, "read error in the PLY header");
   const ply::Header header = ply::parse_header(head, file);
   const VertexLayout layout = resolve_vertex_layout(header, file);
-  if (header.format == ply::Format::kAscii)
-    return read_ascii(in, file_size, header, layout, file);
-  return read_binary(in, file_size, header, layout, file);
+  GaussianModel model = header.format == ply::Format::kAscii ? read_ascii(in, file_size, header, layout, file)
+                                                              : read_binary(in, file_size, header, layout, file);
+  // A rotation is the normalised quaternion: one of length zero has none (the .splat reader
+  // refuses the same).
+  for (std::size_t i = 0; i < model.size(); ++i)
+    if (std::all_of(model.quats.begin() + std::ptrdiff_t(4 * i), model.quats.begin() + std::ptrdiff_t(4 * i + 4),
+                    [](float q) { return q == 0.0f; }))
+      throw InputError(file, "vertex " + std::to_string(i) + " has a rotation of length zero (rot_0..3 all 0)");
+  return model;
 }
 
 void write_ply(const GaussianModel& model, const std::filesystem::path& file) {

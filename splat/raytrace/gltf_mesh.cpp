@@ -12,6 +12,7 @@
 #include <tiny_gltf.h>
 
 #include "splat/core/error.hpp"
+#include "splat/core/json_file.hpp"
 
 namespace splat::raytrace {
 namespace {
@@ -313,7 +314,7 @@ Mesh load_gltf_mesh(const fs::path& file) {
                          : loader.LoadASCIIFromFile(&model, &err, &warn, file.string());
   if (!ok || !err.empty()) {
     while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
-    throw InputError(file, "cannot load glTF: " + (err.empty() ? std::string("unknown error") : err));
+    throw InputError(file, "cannot load glTF: " + (err.empty() ? std::string("unknown error") : json_error_text(err)));
   }
   Mesh mesh;
   for (std::size_t t = 0; t < model.textures.size(); ++t)

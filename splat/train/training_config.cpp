@@ -195,7 +195,7 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
   }
   std::string known;
   for (const char* name : kSplatStrategies) known += std::string(known.empty() ? "" : ", ") + name;
-  throw ArgumentError("unknown strategy '" + strategy + "' (known: " + known + ")");
+  throw ArgumentError("--strategy: unknown strategy '" + strategy + "' (known: " + known + ")");
 }
 
 void validate(const SplatTrainingConfig& config) {
@@ -205,10 +205,12 @@ void validate(const SplatTrainingConfig& config) {
                         format_setting_number(config.random_init_near) + " and " +
                         format_setting_number(config.random_init_far) + ")");
   if (config.iterations % config.batch != 0)
-    throw ArgumentError("iterations (" + std::to_string(config.iterations) + ") must be a multiple of the batch (" +
-                        std::to_string(config.batch) + "): iterations count views");
+    throw ArgumentError("\"iterations\" (--iters, " + std::to_string(config.iterations) +
+                        ") must be a multiple of \"batch\" (--batch, " + std::to_string(config.batch) +
+                        "): iterations count views");
   if (config.batch > 1 && (config.refine_poses || config.exposure_compensation))
-    throw ArgumentError("pose refinement and exposure compensation train one view at a time: use batch 1");
+    throw ArgumentError("pose refinement and exposure compensation (--refine-poses, --exposure-compensation) train "
+                        "one view at a time: \"batch\" (--batch) must be 1");
 }
 
 nlohmann::json to_json(const SplatTrainingConfig& config) { return settings_json(config); }
