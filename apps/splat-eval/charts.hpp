@@ -14,9 +14,9 @@ namespace splat::cli {
 // Writes out/charts/<chart>.{dat,png,svg} and out/charts/charts.gp (the script, kept so a
 // chart can be restyled by hand); returns the chart images written, relative to out
 // ("charts/psnr_vs_time.png", ...), or none with `gnuplot_missing` when gnuplot is not
-// installed (the numbers stay in the JSON). InputError when `out` holds no result file, or
-// its result files hold no point to chart (every history empty): a report of nothing says
-// what is missing where; Error when gnuplot runs and fails, naming its log.
+// installed (the numbers stay in the JSON), or none when the files hold nothing to chart.
+// InputError when `out` holds no result file: a report of nothing says what is missing
+// where; Error when gnuplot runs and fails, naming its log.
 struct ChartsDrawn {
   std::vector<std::string> images;
   bool gnuplot_missing = false;

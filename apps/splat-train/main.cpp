@@ -179,6 +179,15 @@ int train_main(int argc, char** argv, splat::ProcessGroup* ranks) {
   if (auto r = args.value("resume")) options.resume = *r;
   options.quiet = args.has("quiet") || (ranks && ranks->rank() != 0);  // rank 0 reports
   if (auto s = args.number("snapshot-every", {0.1, splat::kMaxTrainingSeconds})) options.snapshot_seconds = *s;
+  // Settings that must agree with each other are checked once all are in: a conflict that
+  // involves the config file names it.
+  try {
+    if (options.method == "nerf") splat::validate(options.nerf_config);
+    else splat::validate(options.config);
+  } catch (const splat::ArgumentError& e) {
+    if (auto file = args.value("config")) throw splat::InputError(*file, std::string(e.what()) + " (with the options)");
+    throw;
+  }
   options.group = ranks;
   return splat::cli::run_train_command(options);
 }

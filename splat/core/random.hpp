@@ -9,6 +9,15 @@
 
 namespace splat {
 
+// SplitMix64's finaliser: a 64-bit value mixed so that every input bit moves every output bit
+// (counter-based random streams, fingerprints).
+inline std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
 // Uniform in [0, 1): the top 24 bits of one draw, so every value is exact in float and 1 is
 // never returned.
 inline float uniform01(std::mt19937& rng) {

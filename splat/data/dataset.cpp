@@ -5,11 +5,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <string>
 
 #include "splat/core/error.hpp"
+#include "splat/core/random.hpp"
 #include "splat/data/dataset_loading.hpp"
 #include "splat/data/image_io.hpp"
 #include "splat/data/resample.hpp"
@@ -326,6 +329,23 @@ std::vector<Camera> cameras_of(const std::vector<DatasetView>& views) {
   std::vector<Camera> cameras;
   for (const DatasetView& view : views) cameras.push_back(view.camera);
   return cameras;
+}
+
+std::uint64_t views_fingerprint(const std::vector<DatasetView>& views) {
+  std::uint64_t hash = splitmix64(views.size());
+  const auto add = [&](std::uint64_t value) { hash = splitmix64(hash ^ value); };
+  for (const DatasetView& view : views) {
+    for (const char c : view.name) add(std::uint8_t(c));
+    add((std::uint64_t(view.image.width) << 32) | std::uint64_t(view.image.height));
+    add(std::uint64_t(view.image.channels));
+    const std::vector<float>& data = view.image.data;
+    for (std::size_t i = 0; i < data.size(); i += 2) {  // two floats a word
+      std::uint32_t bits[2] = {0, 0};
+      std::memcpy(bits, data.data() + i, std::min<std::size_t>(2, data.size() - i) * sizeof(float));
+      add((std::uint64_t(bits[0]) << 32) | bits[1]);
+    }
+  }
+  return hash;
 }
 
 }  // namespace splat

@@ -101,4 +101,8 @@ glm::vec3 scene_centre(const std::vector<DatasetView>& train, const PointCloud* 
 // The cameras of `views`, in order.
 std::vector<Camera> cameras_of(const std::vector<DatasetView>& views);
 
+// A 64-bit fingerprint of `views`: their names, sizes and pixels. A checkpoint records its
+// training views' fingerprint, so that it resumes only on the images it was trained on.
+std::uint64_t views_fingerprint(const std::vector<DatasetView>& views);
+
 }  // namespace splat

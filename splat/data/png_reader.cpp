@@ -117,6 +117,7 @@ class PngDecoder {
   bool read_rows_or_fail(png_bytepp rows) {
     if (setjmp(png_jmpbuf(png_))) return false;
     png_read_image(png_, rows);
+    png_read_end(png_, nullptr);  // to the IEND chunk: a file cut after its pixels is damaged too
     return true;
   }
 

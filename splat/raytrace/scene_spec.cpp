@@ -160,6 +160,10 @@ SceneSpec load_scene_spec(const fs::path& spec_file) {
   if (r.has("description")) spec.description = r.string("description");
   const fs::path gltf = r.string("gltf");
   if (gltf.empty()) r.fail("gltf", "must not be empty");
+  // The loader takes .glb as binary and anything else as text glTF: another extension would
+  // be read as a format it does not name.
+  if (const std::string ext = gltf.extension().string(); ext != ".gltf" && ext != ".glb" && ext != ".GLTF" && ext != ".GLB")
+    r.fail("gltf", "must name a .gltf or .glb file, not '" + gltf.string() + "'");
   spec.gltf = gltf.is_absolute() ? gltf : spec_file.parent_path() / gltf;
   spec.cameras = read_orbit(spec_file, r.get("cameras"));
   if (r.has("lights")) {

@@ -7,6 +7,7 @@
 // version-1 checkpoint has them), the per-view corrections' values and moments, and while the
 // validation holdout is undecided and has a best model, that model's five groups.
 #include <algorithm>
+#include <cstdio>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -47,6 +48,15 @@ void read_array(std::istream& in, std::vector<float>& a, std::uint64_t remaining
 
 }  // namespace
 
+std::string SplatTrainer::train_images_fingerprint() const {
+  if (train_images_fingerprint_.empty()) {
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(views_fingerprint(dataset_.train)));
+    train_images_fingerprint_ = text;
+  }
+  return train_images_fingerprint_;
+}
+
 void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
   nlohmann::json header;
   header["config"] = to_json(config_);
@@ -57,6 +67,7 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
   header["view_stack"] = view_stack_;
   header["train_views"] = dataset_.train.size();
   header["downscale"] = dataset_.downscale;
+  header["train_images"] = train_images_fingerprint();
   std::ostringstream rng_state;
   rng_state << rng_;
   header["rng"] = rng_state.str();
@@ -114,6 +125,11 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file, const Give
                                  std::to_string(header.at("train_views").get<std::size_t>()) +
                                  " training views, this dataset has " +
                                  std::to_string(dataset_.train.size()));
+    // Older checkpoints lack the fingerprint: for them only the count is compared.
+    if (const auto images = header.find("train_images");
+        images != header.end() && images->get<std::string>() != train_images_fingerprint())
+      throw InputError(file, "checkpoint was written for other training images (the same number, other names or "
+                             "pixels): resume it on the dataset it was trained on");
     if (const auto downscale = header.find("downscale");
         downscale != header.end() && downscale->get<int>() != dataset_.downscale)
       throw InputError(file, "checkpoint was trained on the images at 1/" + std::to_string(downscale->get<int>()) +

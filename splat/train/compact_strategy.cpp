@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include "splat/core/error.hpp"
+#include "splat/core/random.hpp"
 #include "splat/optim/step_events.hpp"
 #include "splat/optim/relocation.hpp"
 #include "splat/raster/projection_math.hpp"
@@ -13,15 +14,9 @@ namespace splat {
 
 namespace {
 
-// A counter-based random stream: the value for (seed, iteration, index) is a pure function of
-// them, so per-Gaussian noise can be drawn in parallel and does not depend on thread count.
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
-
+// A counter-based random stream (splitmix64): the value for (seed, iteration, index) is a pure
+// function of them, so per-Gaussian noise can be drawn in parallel and does not depend on
+// thread count.
 // Three standard normals for one Gaussian (Box–Muller on four 24-bit uniforms).
 Vec3<float> normal3(unsigned seed, int iteration, std::size_t index) {
   const std::uint64_t key = splitmix64(splitmix64(seed) ^ (std::uint64_t(iteration) << 40) ^ index);

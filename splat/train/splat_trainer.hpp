@@ -138,6 +138,9 @@ class SplatTrainer {
   void validate_if_due();
 
   const Dataset& dataset_;
+  // views_fingerprint of the training views as 16 hex digits, computed at the first checkpoint.
+  std::string train_images_fingerprint() const;
+  mutable std::string train_images_fingerprint_;
   SplatTrainingConfig config_;
   float scene_extent_;
   InitialisationReport initialisation_;  // before model_: initial_model fills it

@@ -64,6 +64,13 @@ TEST(CheckpointChecks, DamagedSplatCheckpointsAreCleanErrorsNamingTheFile) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << damage.what << ": one line: " << r.err;
     EXPECT_FALSE(fs::exists(dir / "resumed" / "model.ply")) << damage.what << ": nothing written";
   }
+  // Another dataset with as many views (other pixels): the checkpoint's fingerprint of its
+  // training images refuses it.
+  test::write_demo_dataset(dir / "other", 6, 2, 32, 1500);
+  r = test::run_command(train(dir / "other", dir / "resumed", "--iters 40 --resume " + (dir / "run").string()), dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("checkpoint.ckpt: checkpoint was written for other training images"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "resumed"));
 }
 
 }  // namespace

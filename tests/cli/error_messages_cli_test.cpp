@@ -46,6 +46,9 @@ void write_bad_inputs(const fs::path& dir) {
   const std::string png = test::png_file(8, 8, 8, 2, rows);
   test::write_text(dir / "cut.png", png.substr(0, png.size() - 20));
   test::write_text(dir / "small.png", png);
+  test::write_text(dir / "no_iend.png", png.substr(0, png.size() - 12));  // all pixels, no IEND chunk
+  test::write_text(dir / "obj_scene.json", R"({"gltf": "model.obj"})");
+  test::write_text(dir / "near_far.json", R"({"random_init_near": 20, "random_init_far": 10})");
 }
 
 TEST(ErrorMessages, EveryToolGivesOneLineNamingTheFileAndTheProblem) {
@@ -61,6 +64,7 @@ TEST(ErrorMessages, EveryToolGivesOneLineNamingTheFileAndTheProblem) {
       {SPLAT_PSNR_EXE, "{D}/small.png", {"expected two images"}},
       {SPLAT_PSNR_EXE, "{D}/missing.png {D}/small.png", {"{D}/missing.png: does not exist"}},
       {SPLAT_PSNR_EXE, "{D}/cut.png {D}/small.png", {"{D}/cut.png: ", "truncated"}},
+      {SPLAT_PSNR_EXE, "{D}/no_iend.png {D}/small.png", {"{D}/no_iend.png: cannot read the PNG"}},
       {SPLAT_PSNR_EXE, "{D}/small.png " + jpeg, {jpeg + ": is 32x32x3 but {D}/small.png is 8x8x3"}},
       {SPLAT_PSNR_EXE, "{D}/a_folder {D}/small.png", {"{D}/small.png: is not a folder"}},
       {SPLAT_PSNR_EXE, "{D}/a_folder {D}/a_folder", {"{D}/a_folder: no PNG images"}},
@@ -80,11 +84,13 @@ TEST(ErrorMessages, EveryToolGivesOneLineNamingTheFileAndTheProblem) {
       {SPLAT_TRAIN_EXE, "--data {D}/dataset --out {D}/t --config {D}/a_folder", {"{D}/a_folder: is a folder, not a config file"}},
       {SPLAT_TRAIN_EXE, "--data {D}/dataset --out {D}/t --config {D}/garbage.json", {"{D}/garbage.json: malformed JSON: parse error at line 1"}},
       {SPLAT_TRAIN_EXE, "--data {D}/dataset --out {D}/t --config {D}/missing.json", {"{D}/missing.json: file does not exist"}},
+      {SPLAT_TRAIN_EXE, "--data {D}/dataset --out {D}/t --config {D}/near_far.json", {"{D}/near_far.json: \"random_init_near\" must be below"}},
       // splat-scene
       {SPLAT_SCENE_EXE, "", {"expected \"render SCENE.json --out DIR\""}},
       {SPLAT_SCENE_EXE, "render {D}/a_folder --out {D}/s", {"{D}/a_folder: is a folder, not a scene spec"}},
       {SPLAT_SCENE_EXE, "render {D}/garbage.json --out {D}/s", {"{D}/garbage.json: malformed JSON: parse error at line 1"}},
       {SPLAT_SCENE_EXE, "render {D}/empty.json --out {D}/s", {"{D}/empty.json: ", "gltf"}},
+      {SPLAT_SCENE_EXE, "render {D}/obj_scene.json --out {D}/s", {"{D}/obj_scene.json: ", "must name a .gltf or .glb file"}},
       // splat-eval
       {SPLAT_EVAL_EXE, "--data {D}/dataset --out {D}/e", {"{D}/dataset: not a dataset folder"}},
       {SPLAT_EVAL_EXE, "--data {D}/dataset --out {D}/e --splat-config {D}/garbage.json", {"{D}/garbage.json: malformed JSON"}},

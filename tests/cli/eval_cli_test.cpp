@@ -487,9 +487,10 @@ TEST(EvalCli, ReportOnDamagedResultFilesNamesTheFileAndLeavesNoTemporaryCharts) 
   };
   const Case cases[] = {
       {"empty_history", R"({"methods": [{)" + method + R"(, "history": []}]})", ""},
-      // Nothing to chart at all: said so, naming the file (not "gnuplot not found").
+      // Nothing scored at all: not what a run writes, named before any chart is drawn (not
+      // "gnuplot not found", as it was).
       {"no_scores", R"({"methods": [{"method": "splat", "history": []}, {"method": "nerf", "history": []}]})",
-       "results.json: no run has a scored point to chart (every history is empty"},
+       "results.json: not a splat-eval result file as expected"},
       {"history_not_an_array", R"({"methods": [{)" + method + R"(, "history": 7}]})", "results.json: "},
       {"history_entry_without_seconds", R"({"methods": [{)" + method + R"(, "history": [{"test_psnr": 20}]}]})",
        "results.json: "},

@@ -69,10 +69,9 @@ TEST(Faults, KilledAtRandomMomentsTheFilesOnDiskLoadAndResumeContinues) {
     }
     const int target = (resume ? checkpoint_iteration() : 0) + (runs_to_the_end ? 20 : 1'000'000);
     const std::string kill = runs_to_the_end ? "" : "sleep " + std::to_string(delay / 1000.0) + "; kill -KILL $pid 2>/dev/null; ";
-    const std::string command =
-        "(" + train(dir, folder, "--iters " + std::to_string(target) + " --checkpoint-every 10" +
-                                     (resume ? " --resume " + folder.string() : "")) +
-        " & pid=$!; " + kill + "wait $pid; echo $? > " + (dir / "code").string() + ")";
+    const std::string run = train(dir, folder, "--iters " + std::to_string(target) + " --checkpoint-every 10" +
+                                                   (resume ? " --resume " + folder.string() : ""));
+    const std::string command = "(" + run + " & pid=$!; " + kill + "wait $pid; echo $? > " + (dir / "code").string() + ")";
     test::run_command(command, dir);
     const int code = std::stoi(test::read_file(dir / "code"));
     ASSERT_TRUE(code == (runs_to_the_end ? 0 : 128 + 9)) << "exit " << code << ": " << test::read_file(dir / "stderr.txt");
@@ -158,7 +157,9 @@ TEST(Faults, CheckpointAndReportWritesStoppedByTheFileSizeLimitKeepThePreviousFi
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_TRUE(test::read_file(eval / "report.html") == report) << "the previous report was changed";
   EXPECT_TRUE(temporaries(eval).empty()) << temporaries(eval).front();
-  if (fs::exists(eval / "charts")) EXPECT_TRUE(temporaries(eval / "charts").empty());
+  if (fs::exists(eval / "charts")) {
+    EXPECT_TRUE(temporaries(eval / "charts").empty());
+  }
 }
 
 // Images are read once, when the dataset loads: a dataset that disappears mid-run changes

@@ -62,7 +62,7 @@ TEST(GradCli, BadInputsFailCleanly) {
       {grad_command("--view 0", (dir / "short.f32").string(), dir / "g.f32"), "short.f32"},
       {grad_command("--view 0", (dir / "nan.f32").string(), dir / "g.f32"), "nan.f32: the weight image: value 1234 is not finite"},
       {grad_command("--view 13", good_weights, dir / "g.f32"), "out of range"},
-      {grad_command("--view -1", good_weights, dir / "g.f32"), "out of range"},
+      {grad_command("--view -1", good_weights, dir / "g.f32"), "option --view must be a whole number from 0"},
       {grad_command("--view 0", (dir / "missing.f32").string(), dir / "g.f32"), "missing.f32"},
       {std::string(SPLAT_GRAD_EXE) + " --model /nonexistent.ply --cameras " + conformance("transforms_test.json") +
            " --view 0 --width 400 --height 400 --bg 1,1,1 --weights " + good_weights + " --out " +

@@ -261,7 +261,7 @@ TEST(TrainCli, BatchesOfViewsCountIterationsInViewsAndResumeExactly) {
 
   r = test::run_command(train_command(dir / "bad", "--batch 3 --iters 100 --quiet"), dir);
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.err.find("multiple of the batch"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("must be a multiple of \"batch\" (--batch, 3)"), std::string::npos) << r.err;
   r = test::run_command(nerf_command(dir / "nerf", "--batch 2 --iters 10 --quiet"), dir);
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--batch is a splat setting"), std::string::npos) << r.err;

@@ -294,8 +294,16 @@ TEST(DatasetFolders, TrainingViewsCanBeThinnedWithTheTestViewsKept) {
   EXPECT_EQ(d.test[1].name, "img_08");
   // The extent is that of the kept cameras (what a sparser capture would give).
   EXPECT_FLOAT_EQ(d.scene_extent, dataset_detail::scene_extent(d.train));
-  options.train_views = 50;  // more than there are: all of them
+  options.train_views = 8;  // all of them
   EXPECT_EQ(load_dataset(dir, options).train.size(), 8u);
+  options.train_views = 9;  // more than there are: a mistake, said so
+  try {
+    load_dataset(dir, options);
+    ADD_FAILURE() << "--train-views beyond the views was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--train-views 9 asks for more views than the 8 training views"),
+              std::string::npos) << e.what();
+  }
 }
 
 // --holdout-every K: every K-th image in name order is a test view; 0 holds none out. Blender
