@@ -101,7 +101,7 @@ check() {
   snapshot >"$dir/before"
   local rc tries=0
   while :; do
-    timeout -k 5 "$CASE_TIMEOUT" "$BIN/$tool" "$@" </dev/null >"$dir/out" 2>"$dir/err"
+    timeout -k 5 "$CASE_TIMEOUT" "${AS_USER[@]}" "$BIN/$tool" "$@" </dev/null >"$dir/out" 2>"$dir/err"
     rc=$?
     # The binary missing or half-written (someone is rebuilding build/): wait, then run again.
     if ((rc == 126 || rc == 127)) && grep -q '^timeout: failed to run' "$dir/err" && ((tries++ < 3)); then
@@ -181,11 +181,22 @@ skip() {
 }
 
 # unreadable CLASS NAME FILE EXPECT TOOL ARGS...: FILE made unreadable (chmod 000) for the run.
-# As root chmod does not deny reads, so the case is skipped.
+# Root reads it all the same: as root the case runs as the user nobody (runuser), with the
+# scratch folder opened to it for the run; without runuser it is skipped.
+AS_USER=()
 unreadable() {
   local class=$1 name=$2 file=$3; shift 3
-  if ((IS_ROOT)); then skip "$class" "$name" "running as root: chmod 000 does not deny reads"; return; fi
-  chmod 000 "$file"; check "$class" "$name" "$@"; chmod u+rwX "$file"
+  if ((IS_ROOT)) && ! command -v runuser >/dev/null; then
+    skip "$class" "$name" "running as root without runuser: chmod 000 does not deny reads"; return
+  fi
+  chmod 000 "$file"
+  if ((IS_ROOT)); then
+    chmod -R a+rwX "$S"; chmod 000 "$file"
+    AS_USER=(runuser -u nobody --)
+  fi
+  check "$class" "$name" "$@"
+  AS_USER=()
+  chmod u+rwX "$file"
 }
 
 # control NAME TOOL ARGS...: a valid call like those the cases damage; it must succeed.

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <array>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -101,6 +102,7 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file, const Give
   const std::uint64_t file_size = std::filesystem::file_size(file, ec);
   if (ec) throw InputError(file, "cannot open the checkpoint: " + ec.message());
   std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file, std::string("cannot open the checkpoint: ") + std::strerror(errno));
   char magic[8];
   std::uint32_t version = 0;
   std::uint64_t header_size = 0;
