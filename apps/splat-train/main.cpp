@@ -42,7 +42,8 @@ on as transforms files (DIR/cameras_train.json, DIR/cameras_test.json) that spla
                         smallest K that brings images wider than 1,600 pixels to 1,600 at
                         most, as the official trainer does; printed)
   --train-views N       train on N of the training views, spread evenly through them, the
-                        test views unchanged (a sparser capture of the same scene; default all)
+                        test views unchanged (a sparser capture of the same scene; default all,
+                        more than there are is an error)
   --holdout-every K     COLMAP data: every K-th image in name order is a test view (default
                         8; 0 = none: every view trains, and there is no test score)
   --max-gaussians N     Gaussian budget: densification never exceeds it (default: none)
