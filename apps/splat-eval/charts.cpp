@@ -228,22 +228,22 @@ std::string chart_script(const std::vector<Chart>& charts) {
 
 ChartsDrawn write_charts(const fs::path& out) {
   std::vector<Chart> charts;
-  std::vector<fs::path> read;  // the result files there are
+  bool any_result_file = false;
   with_result_file(out / "results.json", [&](const json& results) {
     add_results_charts(results, charts);
-    read.push_back(out / "results.json");
+    any_result_file = true;
   });
   with_result_file(out / "sweep.json", [&](const json& sweep) {
     add_sweep_charts(sweep, charts);
-    read.push_back(out / "sweep.json");
+    any_result_file = true;
   });
   with_result_file(out / "stability.json", [&](const json& stability) {
     add_stability_chart(stability, charts);
     add_stability_curves(stability, charts);
     add_real_capture_curves(stability, charts);
-    read.push_back(out / "stability.json");
+    any_result_file = true;
   });
-  if (read.empty())
+  if (!any_result_file)
     throw InputError(out, "holds no results.json, sweep.json or stability.json: nothing to report (--report "
                           "redraws the charts and report of a finished splat-eval run)");
   // gnuplot refuses a plot of nothing: no empty series (a NeRF on the Gaussians chart), and no

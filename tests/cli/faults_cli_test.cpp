@@ -40,6 +40,14 @@ std::vector<std::string> temporaries(const fs::path& folder) {
   return names;
 }
 
+// A write stopped by the file-size limit: exit 2, one line "error: <named>…File too large".
+void expect_file_too_large(const test::CommandResult& r, const std::string& named) {
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err.rfind("error: " + named, 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
 TEST(Faults, KilledAtRandomMomentsTheFilesOnDiskLoadAndResumeContinues) {
   const fs::path dir = test::scratch_dir("faults_kill");
   small_dataset(dir);
@@ -107,10 +115,7 @@ TEST(Faults, AWriteStoppedByTheFileSizeLimitIsACleanErrorAndKeepsThePreviousOutp
   ASSERT_GT(model.size(), 100'000u) << "the model must be larger than the limit below";
   // Another seed: every output would change. 64 blocks (32 or 64 KiB) stop the model's write.
   r = test::run_command("ulimit -f 64; " + train(dir, out, "--iters 30 --seed 1"), dir);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_EQ(r.err.rfind("error: " + out.string() + "/", 0), 0u) << r.err;
-  EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  expect_file_too_large(r, out.string() + "/");
   EXPECT_TRUE(test::read_file(out / "model.ply") == model) << "the previous model.ply was changed";
   EXPECT_TRUE(temporaries(out).empty()) << temporaries(out).front();
 }
@@ -128,10 +133,7 @@ TEST(Faults, CheckpointAndReportWritesStoppedByTheFileSizeLimitKeepThePreviousFi
   // Resumed, the first checkpoint it writes (at 30) is stopped.
   r = test::run_command("ulimit -f 64; " + train(dir, out, "--iters 40 --checkpoint-every 10 --resume " + out.string()),
                         dir);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_EQ(r.err.rfind("error: " + (out / "checkpoint.ckpt").string() + ": ", 0), 0u) << r.err;
-  EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  expect_file_too_large(r, (out / "checkpoint.ckpt").string() + ": ");
   EXPECT_TRUE(test::read_file(out / "checkpoint.ckpt") == checkpoint) << "the previous checkpoint was changed";
   EXPECT_TRUE(temporaries(out).empty()) << temporaries(out).front();
 
@@ -151,10 +153,7 @@ TEST(Faults, CheckpointAndReportWritesStoppedByTheFileSizeLimitKeepThePreviousFi
   test::write_text(eval / "results.json", results.dump());
   r = test::run_command("ulimit -f 1; " + std::string(SPLAT_EVAL_EXE) + " --report --quiet --out " + eval.string(),
                         dir);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_EQ(r.err.rfind("error: " + eval.string() + "/", 0), 0u) << r.err;
-  EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  expect_file_too_large(r, eval.string() + "/");
   EXPECT_TRUE(test::read_file(eval / "report.html") == report) << "the previous report was changed";
   EXPECT_TRUE(temporaries(eval).empty()) << temporaries(eval).front();
   if (fs::exists(eval / "charts")) {
