@@ -72,12 +72,12 @@ int render_nerf(const RenderCommandOptions& options, const NerfModel& model,
 }  // namespace
 
 RenderModel load_model(const std::filesystem::path& file) {
-  const std::string formats = std::string(kGaussianModelExtensions) + " and .nerf";
+  const std::string formats = std::string(kGaussianModelExtensions) + ", .nerf and .ngp";
   if (std::filesystem::is_directory(file))
     throw InputError(file, "is a folder, not a model file (splat-render reads " + formats + ")");
   const std::string extension = file.extension().string();
   if (is_gaussian_model_extension(extension)) return read_gaussian_model(file);
-  if (extension != ".nerf") throw InputError(file, "unsupported model format '" + extension + "' (splat-render reads " + formats + ")");
+  if (extension != ".nerf" && extension != ".ngp") throw InputError(file, "unsupported model format '" + extension + "' (splat-render reads " + formats + ")");
   if (!std::filesystem::exists(file)) throw InputError(file, "file does not exist");
   return read_nerf(file);
 }

@@ -16,7 +16,7 @@ namespace splat::cli {
 enum class CameraPathKind { kNone, kOrbit, kSpiral, kInterpolate };
 
 struct RenderCommandOptions {
-  std::filesystem::path model;     // .ply, .splat, .spz or .nerf
+  std::filesystem::path model;     // .ply, .splat, .spz, .nerf or .ngp
   std::filesystem::path cameras;   // transforms JSON (optional with a path, except interpolate)
   std::filesystem::path out;       // output folder, created if missing (optional with --video)
   int width = 0, height = 0;       // 0: the dataset's image size, else 800 x 800
@@ -35,7 +35,7 @@ struct RenderCommandOptions {
 using RenderModel = std::variant<GaussianModel, NerfModel>;
 
 // The one place splat-render reads a model: the format from the extension (.ply, .splat,
-// .spz, .nerf);
+// .spz, .nerf, .ngp);
 // InputError naming the file for a folder, another extension, or a file its reader refuses.
 RenderModel load_model(const std::filesystem::path& file);
 

@@ -30,8 +30,8 @@ Renders every frame of a Blender/NeRF-synthetic transforms JSON with the CPU Gau
 rasterizer (or a NeRF's renderer) and writes <out>/<frame name>.png; or, with --path, a
 fly-through: N frames along a camera path, as a video and/or <out>/frame_0000.png ...
 
-  --model FILE        Gaussian model (.ply, .splat, .spz) or NeRF (.nerf, from splat-train
-                      --method nerf)
+  --model FILE        Gaussian model (.ply, .splat, .spz) or NeRF (.nerf or .ngp, from
+                      splat-train --method nerf or ngp)
   --cameras FILE      transforms JSON (camera_angle_x or fl_x/fl_y/cx/cy, transform_matrix);
                       with --path orbit/spiral, the circle follows these cameras (their
                       centre, distance, height, up and field of view)

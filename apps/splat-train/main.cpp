@@ -1,4 +1,4 @@
-// splat-train --data DIR --out DIR [--method splat|nerf] [--iters N] [--max-seconds S]
+// splat-train --data DIR --out DIR [--method splat|nerf|ngp] [--iters N] [--max-seconds S]
 //             [--bg COLOUR] [--seed N] [--threads N] [--downscale K] ...
 #include <cstdio>
 #include <exception>
@@ -26,13 +26,15 @@ on as transforms files (DIR/cameras_train.json, DIR/cameras_test.json) that spla
   --data DIR            Blender folder (transforms_train.json, transforms_test|val.json)
                         or COLMAP folder (sparse/0, images/), detected automatically
   --out DIR             output folder (created if missing)
-  --method splat|nerf   splat (default); nerf is the MLP NeRF baseline (writes model.nerf)
+  --method splat|nerf|ngp
+                        splat (default); nerf is the MLP NeRF baseline (writes model.nerf);
+                        ngp the NeRF with Instant-NGP's hash encoding (writes model.ngp)
   --strategy compact|official
                         density control of the splats: compact (default) grows the model
                         only while it pays and prunes what contributes nothing; official
                         is the official 3DGS recipe, bit for bit
-  --iters N             iterations (default 50000 compact, 30000 official, 20000 nerf;
-                        with --max-seconds the NeRF trains until the time is up)
+  --iters N             iterations (default 50000 compact, 30000 official, 20000 nerf
+                        and ngp; with --max-seconds a NeRF trains until the time is up)
   --max-seconds S       stop after S seconds of wall time (whichever limit comes first)
   --bg COLOUR           background the RGBA images are composited onto: white, black or
                         R,G,B in [0, 1] (default white)
@@ -60,10 +62,10 @@ on as transforms files (DIR/cameras_train.json, DIR/cameras_test.json) that spla
                         white balance), optimised with the scene; test views use none
                         (experimental: off by default)
   --test-every N        evaluate the test views every N iterations (default 1000 splat,
-                        2000 nerf; 0 = end only)
+                        2000 nerf and ngp; 0 = end only)
   --checkpoint-every N  write DIR/checkpoint.ckpt every N iterations (default 5000; 0 = off)
   --resume PATH         continue from a checkpoint file or a folder holding checkpoint.ckpt
-  --snapshot-every S    every S seconds, write the model so far to DIR/snapshot.ply (.nerf)
+  --snapshot-every S    every S seconds, write the model so far to DIR/snapshot.ply (.nerf, .ngp)
                         for splat-viewer --watch DIR (removed when the final model is written)
   --config FILE         JSON with any settings of config.json (applied before the options)
   --quiet               no progress output
@@ -128,24 +130,26 @@ int train_main(int argc, char** argv, splat::ProcessGroup* ranks) {
   options.data = args.required("data");
   options.out = args.required("out");
   options.method = args.value("method").value_or("splat");
-  if (options.method != "splat" && options.method != "nerf")
-    throw splat::ArgumentError("--method must be splat or nerf, got '" + options.method + "'");
-  if (options.method == "nerf") {
+  if (options.method != "splat" && options.method != "nerf" && options.method != "ngp")
+    throw splat::ArgumentError("--method must be splat, nerf or ngp, got '" + options.method + "'");
+  const std::string method_option = "--method " + options.method;
+  if (options.method != "splat") {
     if (args.value("max-gaussians"))
-      throw splat::ArgumentError("--max-gaussians is a splat setting; --method nerf has no Gaussians");
+      throw splat::ArgumentError("--max-gaussians is a splat setting; " + method_option + " has no Gaussians");
     if (args.value("strategy"))
-      throw splat::ArgumentError("--strategy is a splat setting; --method nerf has no density control");
+      throw splat::ArgumentError("--strategy is a splat setting; " + method_option + " has no density control");
     if (args.has("refine-poses"))
       throw splat::ArgumentError("--refine-poses is a splat setting; the NeRF does not refine poses");
     if (args.has("exposure-compensation"))
       throw splat::ArgumentError("--exposure-compensation is a splat setting; the NeRF has no exposure maps");
     if (args.value("batch"))
       throw splat::ArgumentError("--batch is a splat setting; the NeRF's steps are batches of rays (rays_per_batch)");
+    options.nerf_config = splat::nerf_training_preset(options.method);
     apply_options(args, options.nerf_config, options);
     // A time budget is the NeRF's limit (its rate decays over it): its default iteration
     // count, a limit for runs without one, does not cut it short.
     if (args.value("max-seconds") && !args.value("iters") &&
-        options.nerf_config.iterations == splat::NerfTrainingConfig{}.iterations)
+        options.nerf_config.iterations == splat::nerf_training_preset(options.method).iterations)
       options.nerf_config.iterations = splat::kNerfIterationsUnderBudget;
   } else {
     const auto strategy = args.value("strategy");
@@ -183,7 +187,7 @@ int train_main(int argc, char** argv, splat::ProcessGroup* ranks) {
   // Settings that must agree with each other are checked once all are in: a conflict that
   // involves the config file names it.
   try {
-    if (options.method == "nerf") splat::validate(options.nerf_config);
+    if (options.method != "splat") splat::validate(options.nerf_config);
     else splat::validate(options.config);
   } catch (const splat::ArgumentError& e) {
     if (auto file = args.value("config")) throw splat::InputError(*file, std::string(e.what()) + " (with the options)");

@@ -16,11 +16,11 @@ constexpr splat::SettingRange kWindowSideRange{16, 8192};
 constexpr const char* kUsage = R"(usage: splat-viewer FILE [FILE2] [options]
        splat-viewer --watch DIR [options]
 
-Shows a Gaussian model (.ply, .splat, .spz) or a NeRF (.nerf) in a window, rendered by the CPU rasterizer
+Shows a Gaussian model (.ply, .splat, .spz) or a NeRF (.nerf, .ngp) in a window, rendered by the CPU rasterizer
 (or the NeRF renderer) every frame; with two files, both side by side under one camera.
 With --watch, the model a running splat-train writes into DIR (its --out folder, trained
 with --snapshot-every S), followed as it improves: the newest of DIR/snapshot.ply and
-DIR/model.ply (or .nerf), looked for twice a second; waits up to 10 minutes for the first.
+DIR/model.ply (or .nerf, .ngp), looked for twice a second; waits up to 10 minutes for the first.
 
 Controls: left drag orbit, right/middle drag pan, scroll zoom, W A S D Q E fly, R reset,
 [ ] dataset views, + - SH degree, B background, P screenshot, H help, Esc quit.

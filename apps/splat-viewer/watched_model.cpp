@@ -14,7 +14,8 @@ namespace fs = std::filesystem;
 namespace {
 
 // What splat-train writes: the snapshot while it runs, the model when it is done.
-constexpr const char* kModelNames[] = {"snapshot.ply", "snapshot.nerf", "model.ply", "model.nerf"};
+constexpr const char* kModelNames[] = {"snapshot.ply", "snapshot.nerf", "snapshot.ngp",
+                                       "model.ply",    "model.nerf",    "model.ngp"};
 
 void check_folder(const fs::path& dir) {
   std::error_code ec;
@@ -47,7 +48,7 @@ std::optional<fs::path> newest_model_in(const fs::path& dir) {
 WatchedModel::WatchedModel(fs::path dir) : dir_(std::move(dir)) {
   check_folder(dir_);
   const std::optional<Seen> seen = newest();
-  if (!seen) throw InputError(dir_, "holds no model yet (snapshot.ply, model.ply, or their .nerf)");
+  if (!seen) throw InputError(dir_, "holds no model yet (snapshot.ply, model.ply, or their .nerf or .ngp)");
   load(*seen);
   if (!model_) throw InputError(seen->file, status_);
 }

@@ -17,6 +17,7 @@ namespace splat {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'P', 'L', 'A', 'T', 'N', 'R', 'F'};
+constexpr char kNgpMagic[8] = {'S', 'P', 'L', 'A', 'T', 'N', 'G', 'P'};
 constexpr std::uint64_t kMaxArray = std::uint64_t(1) << 32;
 
 template <class T>
@@ -45,6 +46,12 @@ std::vector<T> read_array(std::istream& in, const std::filesystem::path& file, c
 
 nlohmann::json nerf_settings_json(const NerfSettings& s) { return settings_json(s); }
 
+bool uses_hash_encoding(const NerfSettings& s) {
+  return s.coarse.encoding == PositionEncoding::kHash || s.fine.encoding == PositionEncoding::kHash;
+}
+
+std::string nerf_file_extension(const NerfSettings& s) { return uses_hash_encoding(s) ? ".ngp" : ".nerf"; }
+
 NerfSettings read_nerf_settings(const nlohmann::json& j, SettingsReading how) {
   // Older files lack render_sample_multiplier (they render with 1, the value before it) and
   // unbounded (false), or give the density threshold itself (occupancy_threshold) instead of
@@ -69,7 +76,7 @@ NerfSettings nerf_settings_from_json(const nlohmann::json& j) {
 }
 
 void write_nerf_to(std::ostream& out, const NerfModel& model) {
-  out.write(kMagic, sizeof(kMagic));
+  out.write(uses_hash_encoding(model.settings) ? kNgpMagic : kMagic, sizeof(kMagic));
   const std::uint32_t version = kNerfFileVersion;
   out.write(reinterpret_cast<const char*>(&version), sizeof(version));
   nlohmann::json settings = nerf_settings_json(model.settings);
@@ -88,8 +95,9 @@ void write_nerf_to(std::ostream& out, const NerfModel& model) {
 NerfModel read_nerf_from(std::istream& in, const std::filesystem::path& file) {
   char magic[8] = {};
   in.read(magic, sizeof(magic));
-  if (!in || std::memcmp(magic, kMagic, sizeof(kMagic)) != 0)
-    throw InputError(file, "not a splat NeRF model (missing the SPLATNRF header)");
+  const bool ngp = in && std::memcmp(magic, kNgpMagic, sizeof(kNgpMagic)) == 0;
+  if (!in || (!ngp && std::memcmp(magic, kMagic, sizeof(kMagic)) != 0))
+    throw InputError(file, "not a splat NeRF model (missing the SPLATNRF or SPLATNGP header)");
   std::uint32_t version = 0, length = 0;
   in.read(reinterpret_cast<char*>(&version), sizeof(version));
   if (!in) throw InputError(file, "truncated header");
@@ -107,6 +115,9 @@ NerfModel read_nerf_from(std::istream& in, const std::filesystem::path& file) {
   } catch (const std::exception& e) {
     throw InputError(file, "bad settings header: " + json_error_text(e));
   }
+  if (ngp != uses_hash_encoding(settings))
+    throw InputError(file, ngp ? "the SPLATNGP header's networks have no hash encoding"
+                               : "the SPLATNRF header's networks are hash-encoded (an NGP model is SPLATNGP)");
   NerfModel model = [&] {
     try {
       return NerfModel(settings, 0);
@@ -143,7 +154,7 @@ bool is_nerf_file(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   char magic[8] = {};
   in.read(magic, sizeof(magic));
-  return in && std::memcmp(magic, kMagic, sizeof(kMagic)) == 0;
+  return in && (std::memcmp(magic, kMagic, sizeof(kMagic)) == 0 || std::memcmp(magic, kNgpMagic, sizeof(kNgpMagic)) == 0);
 }
 
 }  // namespace splat

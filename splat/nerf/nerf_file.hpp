@@ -1,7 +1,9 @@
 #pragma once
-// model.nerf: a trained NeRF in one binary file (little-endian).
+// model.nerf and model.ngp: a trained NeRF in one binary file (little-endian).
 //
-//   bytes 0..7   magic "SPLATNRF"
+//   bytes 0..7   magic "SPLATNRF", or "SPLATNGP" when the networks are hash-encoded
+//                (Instant-NGP's method: the same layout, each network's parameter array
+//                holding its hash tables after its layers)
 //   u32          format version (kNerfFileVersion)
 //   u32          length L of the settings JSON
 //   L bytes      settings JSON (UTF-8): both networks' configs, sample counts, box, near,
@@ -39,7 +41,12 @@ NerfSettings nerf_settings_from_json(const nlohmann::json& json);
 // older files lack; validated.
 NerfSettings read_nerf_settings(const nlohmann::json& json, SettingsReading how);
 
-// Whether `file` starts with the model.nerf magic (splat-render picks the reader by content).
+// Whether `file` starts with either magic (the viewer picks the reader by content).
 bool is_nerf_file(const std::filesystem::path& file);
+
+// Whether a network of the model is hash-encoded: then it is an NGP model (".ngp", magic
+// SPLATNGP), otherwise ".nerf".
+bool uses_hash_encoding(const NerfSettings& settings);
+std::string nerf_file_extension(const NerfSettings& settings);
 
 }  // namespace splat

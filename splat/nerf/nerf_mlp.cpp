@@ -85,7 +85,7 @@ Map<Scalar> trunk_columns(BasicNerfMlpContext<Scalar>& ctx, const NerfMlpConfig&
 // Rows of one chunk's cotangent scratch (backward_chunk lays them out): two ping-pong
 // [width] blocks for the trunk, the colour hidden layer, rgb, density, and γ(x).
 std::size_t cotangent_rows(const NerfMlpConfig& c) {
-  return std::size_t(2 * c.width + c.color_width + 3 + 1 + encoded_size(c.position_frequencies));
+  return std::size_t(2 * c.width + c.color_width + 3 + 1 + position_code_size(c));
 }
 
 std::size_t chunk_count(std::size_t samples) {
@@ -98,8 +98,20 @@ void require(bool ok, const std::string& message) {
 
 }  // namespace
 
+int position_code_size(const NerfMlpConfig& c) {
+  return c.encoding == PositionEncoding::kHash ? c.hash.levels * c.hash.features
+                                               : encoded_size(c.position_frequencies);
+}
+
+NerfMlpConfig read_nerf_mlp_config(const nlohmann::json& json, const SettingsReading& how) {
+  SettingsReading reading = how;
+  reading.optional.insert(reading.optional.end(), {"encoding", "hash"});
+  return settings_from_json<NerfMlpConfig>(json, reading);
+}
+
 void validate(const NerfMlpConfig& c, const std::string& path) {
   check_setting_ranges(c, path);
+  validate(c.hash, (path.empty() ? "" : path + ".") + "hash");
   // Layer 0 already takes γ(x) alone; a skip there would only duplicate its input.
   if (!(c.skip_layer == -1 || (c.skip_layer >= 1 && c.skip_layer < c.depth)))
     throw ArgumentError("\"" + (path.empty() ? "" : path + ".") + "skip_layer\" must be -1 or from 1 to depth - 1 (got " +
@@ -107,10 +119,17 @@ void validate(const NerfMlpConfig& c, const std::string& path) {
 }
 
 template <typename Scalar>
-BasicNerfMlp<Scalar>::BasicNerfMlp(const NerfMlpConfig& config, std::uint32_t seed)
+BasicNerfMlp<Scalar>::BasicNerfMlp(const NerfMlpConfig& config, std::uint32_t seed, const AxisAlignedBox& input_box)
     : config_(config) {
   validate(config_);
-  const int ex = encoded_size(config_.position_frequencies);
+  if (config_.encoding == PositionEncoding::kHash) {
+    hash_.emplace(config_.hash);
+    const glm::vec3 size = input_box.hi - input_box.lo;
+    require(size.x > 0 && size.y > 0 && size.z > 0, "the hash encoding's input box is empty");
+    input_lo_ = input_box.lo;
+    input_scale_ = 1.0f / size;
+  }
+  const int ex = position_code_size(config_);
   const int ed = encoded_size(config_.direction_frequencies);
   const int w = config_.width;
   std::size_t offset = 0;
@@ -124,7 +143,8 @@ BasicNerfMlp<Scalar>::BasicNerfMlp(const NerfMlpConfig& config, std::uint32_t se
   add(w, w);                                   // feature
   add(config_.color_width, w + ed);            // colour hidden, on [f; γ(d)]
   add(3, config_.color_width);                 // rgb
-  parameters_.assign(offset, Scalar(0));
+  layer_parameter_count_ = offset;
+  parameters_.assign(offset + (hash_ ? hash_->parameter_count() : 0), Scalar(0));
 
   std::mt19937 rng(seed);
   for (const NerfLayerShape& layer : layers_) {
@@ -133,6 +153,10 @@ BasicNerfMlp<Scalar>::BasicNerfMlp(const NerfMlpConfig& config, std::uint32_t se
     for (std::size_t k = 0; k < std::size_t(layer.out) * layer.in; ++k)
       w_begin[k] = Scalar(bound * (2.0 * double(uniform01(rng)) - 1.0));
   }
+  // Small, so the untrained encoding adds almost nothing and each entry grows only as far as
+  // its gradients take it (the paper's ±10⁻⁴).
+  for (std::size_t k = layer_parameter_count_; k < parameters_.size(); ++k)
+    parameters_[k] = Scalar(1e-4 * (2.0 * double(uniform01(rng)) - 1.0));
 }
 
 template <typename Scalar>
@@ -142,11 +166,15 @@ void BasicNerfMlp<Scalar>::size_context(Context& ctx, std::size_t count) const {
     ctx.sized_for = config_;
   }
   if (count <= ctx.capacity) return;
-  const std::size_t ex = encoded_size(config_.position_frequencies);
+  const std::size_t ex = position_code_size(config_);
   const std::size_t ed = encoded_size(config_.direction_frequencies);
   const std::size_t w = config_.width;
   ctx.capacity = count;
   ctx.encoded_positions.resize(ex * count);
+  if (hash_) {
+    ctx.unit_positions.resize(3 * count);
+    ctx.v_encoded_positions.resize(ex * count);
+  }
   ctx.encoded_directions.resize(ed * count);
   ctx.trunk.resize(std::size_t(config_.depth) * w * count);
   ctx.density_preactivation.resize(count);
@@ -202,8 +230,8 @@ void BasicNerfMlp<Scalar>::forward_density_chunk(Context& ctx, std::size_t first
                                                  const Scalar* positions, Scalar* sigma) const {
   const Scalar* params = parameters_.data();
   const auto trunk = [&](int i) { return trunk_columns(ctx, config_, i, first, n); };
-  Map<Scalar> gx = columns(ctx.encoded_positions.data(), encoded_size(config_.position_frequencies), first, n);
-  encode_batch(positions + 3 * first, n, config_.position_frequencies, gx.data());  // [E_x, n]
+  encode_positions_chunk(ctx, first, n, positions);
+  Map<Scalar> gx = columns(ctx.encoded_positions.data(), position_code_size(config_), first, n);  // [E_x, n]
 
   for (int i = 0; i < config_.depth; ++i) {
     const NerfLayerShape& layer = layers_[i];
@@ -226,6 +254,21 @@ void BasicNerfMlp<Scalar>::forward_density_chunk(Context& ctx, std::size_t first
   const bool softplus = config_.density_activation == DensityActivation::kSoftplus;
   for (std::size_t j = 0; j < n; ++j)
     sigma[first + j] = softplus ? nerf_detail::softplus(z(0, j)) : nerf_detail::relu(z(0, j));
+}
+
+template <typename Scalar>
+void BasicNerfMlp<Scalar>::encode_positions_chunk(Context& ctx, std::size_t first, std::size_t n,
+                                                  const Scalar* positions) const {
+  Scalar* code = ctx.encoded_positions.data() + std::size_t(position_code_size(config_)) * first;
+  if (!hash_) {
+    encode_batch(positions + 3 * first, n, config_.position_frequencies, code);
+    return;
+  }
+  Scalar* unit = ctx.unit_positions.data() + 3 * first;
+  for (std::size_t j = 0; j < n; ++j)
+    for (int a = 0; a < 3; ++a)
+      unit[3 * j + a] = (positions[3 * (first + j) + a] - Scalar(input_lo_[a])) * Scalar(input_scale_[a]);
+  hash_encode(*hash_, parameters_.data() + layer_parameter_count_, unit, n, code);
 }
 
 template <typename Scalar>
@@ -272,7 +315,7 @@ void BasicNerfMlp<Scalar>::backward(Context& ctx, std::span<const Scalar> v_sigm
   require(v_positions.empty() || v_positions.size() == 3 * n,
           "v_positions must be empty or hold 3 N values");
 
-  const std::size_t p = parameter_count();
+  const std::size_t p = layer_parameter_count_;
   if (ctx.partial_gradients.size() < kGradientSlots * p) {
     ctx.partial_gradients.resize(kGradientSlots * p);
     ctx.backward_scratch.resize(kGradientSlots * kSamplesPerChunk * cotangent_rows(config_));
@@ -306,6 +349,16 @@ void BasicNerfMlp<Scalar>::backward(Context& ctx, std::span<const Scalar> v_sigm
         }
       },
       tbb::simple_partitioner());
+  if (!hash_) return;
+  // The tables: one task per level, each adding its samples' cotangents in sample order.
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, int(hash_->levels().size()), 1),
+      [&](const tbb::blocked_range<int>& range) {
+        for (int level = range.begin(); level != range.end(); ++level)
+          hash_encode_vjp_table(*hash_, level, ctx.unit_positions.data(), n, ctx.v_encoded_positions.data(),
+                                v_parameters.data() + layer_parameter_count_);
+      },
+      tbb::simple_partitioner());
 }
 
 // The chain rule backwards through forward_density_chunk and forward_color_chunk, one layer's
@@ -315,11 +368,11 @@ template <typename Scalar>
 void BasicNerfMlp<Scalar>::backward_chunk(Context& ctx, std::size_t slot, std::size_t first,
                                           std::size_t n, const Scalar* v_sigma,
                                           const Scalar* v_rgb, Scalar* v_positions) const {
-  const int ex = encoded_size(config_.position_frequencies);
+  const int ex = position_code_size(config_);
   const int ed = encoded_size(config_.direction_frequencies);
   const int w = config_.width;
   const int cw = config_.color_width;
-  const std::size_t p = parameter_count();
+  const std::size_t p = layer_parameter_count_;
   const Scalar* params = parameters_.data();
   Scalar* grad = ctx.partial_gradients.data() + slot * p;  // accumulates this slot's chunks
   const Context& saved = ctx;  // forward's activations: read only
@@ -335,7 +388,10 @@ void BasicNerfMlp<Scalar>::backward_chunk(Context& ctx, std::size_t slot, std::s
     return m;
   };
   MatrixRef<Scalar> v_a = take(w), v_b = take(w), v_hidden = take(cw), v_c = take(3),
-                    v_z = take(1), v_gx = take(ex);
+                    v_z = take(1), v_gx_scratch = take(ex);
+  // The hash encoding's cotangent outlives the chunk: the tables' VJP runs after all chunks.
+  Map<Scalar> v_gx_saved = hash_ ? columns(ctx.v_encoded_positions.data(), ex, first, n) : Map<Scalar>(nullptr, 0, 0);
+  MatrixRef<Scalar> v_gx = hash_ ? MatrixRef<Scalar>(v_gx_saved) : v_gx_scratch;
 
   const ConstMap<Scalar> gx = columns(saved.encoded_positions.data(), ex, first, n);
   const ConstMap<Scalar> gd = columns(saved.encoded_directions.data(), ed, first, n);
@@ -378,7 +434,7 @@ void BasicNerfMlp<Scalar>::backward_chunk(Context& ctx, std::size_t slot, std::s
   // Trunk, top down; `v_h` holds the cotangent of layer i's output.
   MatrixRef<Scalar>* v_h = &v_b;
   MatrixRef<Scalar>* v_below = &v_a;
-  MatrixRef<Scalar>* v_code = v_positions ? &v_gx : nullptr;
+  MatrixRef<Scalar>* v_code = v_positions || hash_ ? &v_gx : nullptr;
   if (v_code) v_gx.setZero();
   for (int i = config_.depth - 1; i >= 0; --i) {
     const NerfLayerShape& layer = layers_[i];
@@ -398,6 +454,17 @@ void BasicNerfMlp<Scalar>::backward_chunk(Context& ctx, std::size_t slot, std::s
     std::swap(v_h, v_below);
   }
 
+  if (hash_) {
+    if (!v_positions) return;
+    // ∂u/∂x = scale per axis.
+    const Scalar* unit = saved.unit_positions.data() + 3 * first;
+    Scalar* v_x = v_positions + 3 * first;
+    std::vector<Scalar> v_unit(3 * n, Scalar(0));
+    hash_encode_vjp_positions(*hash_, params + layer_parameter_count_, unit, n, v_gx.data(), v_unit.data());
+    for (std::size_t j = 0; j < n; ++j)
+      for (int a = 0; a < 3; ++a) v_x[3 * j + a] += v_unit[3 * j + a] * Scalar(input_scale_[a]);
+    return;
+  }
   // γ(x)'s first three rows are x itself, so the encoding's VJP needs no other input.
   if (v_code)
     for (std::size_t j = 0; j < n; ++j)

@@ -68,8 +68,8 @@ struct NerfSettings {
 template <class Table>
 void describe_settings(Table& t, NerfSettings& s) {
   const SettingRange coordinate{-kMaxNerfCoordinate, kMaxNerfCoordinate};
-  t.section("coarse", s.coarse);
-  t.section("fine", s.fine);
+  t.section("coarse", s.coarse, read_nerf_mlp_config);
+  t.section("fine", s.fine, read_nerf_mlp_config);
   t.number("coarse_samples", s.coarse_samples, {1, kMaxNerfSamplesPerRay});
   t.number("fine_samples", s.fine_samples, {0, kMaxNerfSamplesPerRay});
   t.number("render_sample_multiplier", s.render_sample_multiplier, {1, kMaxNerfRenderSampleMultiplier});
@@ -91,7 +91,7 @@ struct NerfModel {
   OccupancyGrid grid;
 
   NerfModel(const NerfSettings& s, std::uint32_t seed)
-      : settings(s), coarse(s.coarse, seed), fine(s.fine, seed + 1),
+      : settings(s), coarse(s.coarse, seed, s.space().network_box()), fine(s.fine, seed + 1, s.space().network_box()),
         grid(s.space().network_box(), s.occupancy_resolution, s.occupancy_density_threshold()) {}
 
   std::size_t parameter_count() const { return coarse.parameter_count() + fine.parameter_count(); }

@@ -48,12 +48,19 @@ void read_floats(std::istream& in, std::span<float> v, const std::filesystem::pa
   if (!in) throw InputError(file, "truncated " + what);
 }
 
+FlatAdamSettings adam_settings(const NerfTrainingConfig& config) {
+  FlatAdamSettings s;
+  s.beta2 = config.adam_beta2;
+  s.epsilon = config.adam_epsilon;
+  return s;
+}
+
 }  // namespace
 
 NerfTrainer::NerfTrainer(const Dataset& dataset, const NerfTrainingConfig& config)
     : dataset_(dataset), config_(validated(config)), model_(config.model, config.seed), averaged_(model_),
-      last_good_model_(model_), coarse_adam_(model_.coarse.parameter_count()),
-      fine_adam_(model_.fine.parameter_count()), rng_(config.seed) {
+      last_good_model_(model_), coarse_adam_(model_.coarse.parameter_count(), adam_settings(config_)),
+      fine_adam_(model_.fine.parameter_count(), adam_settings(config_)), rng_(config.seed) {
   if (dataset.train.empty()) throw ArgumentError("training needs at least one training view");
   for (NerfMlp* mlp : {&model_.coarse, &model_.fine}) {
     const NerfLayerShape& density = mlp->layers()[std::size_t(mlp->density_layer())];
@@ -267,7 +274,8 @@ void NerfTrainer::load_checkpoint(const std::filesystem::path& file, const Given
   NerfModel model = read_nerf_from(in, file), last_good = read_nerf_from(in, file);
   if (!(model.settings.coarse == config.model.coarse) || !(model.settings.fine == config.model.fine))
     throw InputError(file, "the checkpoint's networks differ from this run's settings");
-  FlatAdam coarse_adam(model.coarse.parameter_count()), fine_adam(model.fine.parameter_count());
+  FlatAdam coarse_adam(model.coarse.parameter_count(), adam_settings(config)),
+      fine_adam(model.fine.parameter_count(), adam_settings(config));
   read_floats(in, coarse_adam.first_moment(), file, "optimiser state");
   read_floats(in, coarse_adam.second_moment(), file, "optimiser state");
   read_floats(in, fine_adam.first_moment(), file, "optimiser state");

@@ -4,6 +4,7 @@
 // outputs (config.json); its table of keys and ranges (nerf_training_config.cpp,
 // splat/core/settings_table.hpp) reads, writes and validates it.
 #include <cstddef>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -17,7 +18,12 @@ constexpr int kNerfIterationsUnderBudget = kMaxTrainingIterations;
 // The largest batch: its samples' activations grow with it (docs/DESIGN.md §4.7).
 constexpr int kMaxNerfRaysPerBatch = 16384;
 
+// The radiance-field methods this config trains: "nerf" (the MLP baseline) and "ngp" (the
+// hash-encoded networks; nerf_training_preset gives their defaults).
+inline constexpr const char* kNerfMethods[] = {"nerf", "ngp"};
+
 struct NerfTrainingConfig {
+  std::string method = "nerf";  // fixed by the preset: a config file must name the same
   int iterations = 20000;
   double max_seconds = 0;  // wall-clock limit, 0 = none; whichever ends first
   float background[3] = {1, 1, 1};
@@ -33,6 +39,11 @@ struct NerfTrainingConfig {
   // the time and stay stable (lego400 after 1,000 iterations: 21.08 dB, the paper's
   // 5e-4 → 5e-5 19.10; in 10 minutes twice these rates scored 24.21 dB against 24.39).
   double lr_init = 5e-3, lr_final = 2.5e-4;
+  // Adam's β2 and ε (β1 is 0.9). A hash table's entries see gradients only from the samples
+  // that fall near them, often 10⁻⁶ and smaller: an ε of 10⁻⁷ would damp their steps to a
+  // fraction of the rate, so the NGP preset takes the paper's 10⁻¹⁵ (and β2 = 0.99, whose
+  // shorter memory suits gradients that come and go with the batches).
+  double adam_beta2 = 0.999, adam_epsilon = 1e-7;
   int lr_decay_iterations = 20000;
   bool schedule_follows_budget = true;
   // The density output's bias at initialisation (both networks). With 0 (a Glorot network's
@@ -69,14 +80,20 @@ struct NerfTrainingConfig {
   NerfSettings model;
 };
 
+// The defaults of `method` ("nerf": the members' initialisers; "ngp": Instant-NGP's
+// multiresolution hash encoding in front of tiny networks). ArgumentError for another name.
+NerfTrainingConfig nerf_training_preset(const std::string& method);
+
 // Throws ArgumentError naming the first setting outside its range (the ranges a config file
 // is read with), the model's included. The trainer calls it.
 void validate(const NerfTrainingConfig& config);
 
-// Every setting, and "method": "nerf".
+// Every setting, "method" among them.
 nlohmann::json to_json(const NerfTrainingConfig& config);
 // Reads the keys present over `config`: ArgumentError naming an unknown key or a bad value,
-// or a "method" other than "nerf". "model" is merged key by key over the current settings.
+// or a "method" other than config.method (a file for the NeRF does not turn a run into NGP
+// half-way: the preset comes from the command line). "model" is merged key by key over the
+// current settings.
 void from_json(const nlohmann::json& json, NerfTrainingConfig& config);
 
 }  // namespace splat

@@ -139,7 +139,7 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
 class NerfAdapter final : public DelegatingAdapter<NerfTrainer, NerfTrainingConfig> {
  public:
   using DelegatingAdapter::DelegatingAdapter;
-  std::string method() const override { return "nerf"; }
+  std::string method() const override { return trainer_.config().method; }
   std::size_t num_gaussians() const override { return 0; }
   std::size_t num_params() const override { return trainer_.model().parameter_count(); }
   std::string model_size() const override {
@@ -149,7 +149,7 @@ class NerfAdapter final : public DelegatingAdapter<NerfTrainer, NerfTrainingConf
                   trainer_.model().grid.cell_count());
     return text;
   }
-  std::string model_file_name() const override { return "model.nerf"; }
+  std::string model_file_name() const override { return "model" + nerf_file_extension(trainer_.model().settings); }
   void write_model(const std::filesystem::path& file) const override { write_nerf(trainer_.model(), file); }
   void write_last_good_model(const std::filesystem::path& file) const override {
     write_nerf(trainer_.last_good_model(), file);
@@ -173,7 +173,12 @@ NerfTrainingConfig with_scene_space(NerfTrainingConfig config, const Dataset& da
 
 std::unique_ptr<TrainerAdapter> make_trainer(const std::string& method, const SplatTrainingConfig& splat_config,
                                              const NerfTrainingConfig& nerf_config, const Dataset& dataset) {
-  if (method == "nerf") return std::make_unique<NerfAdapter>(dataset, with_scene_space(nerf_config, dataset));
+  if (method == "nerf" || method == "ngp") {
+    if (nerf_config.method != method)
+      throw ArgumentError("make_trainer: a " + method + " run needs the " + method + " preset's config, not " +
+                          nerf_config.method + "'s");
+    return std::make_unique<NerfAdapter>(dataset, with_scene_space(nerf_config, dataset));
+  }
   return std::make_unique<SplatAdapter>(dataset, splat_config);
 }
 

@@ -26,7 +26,7 @@ struct RunSchedule {
 class TrainerAdapter {
  public:
   virtual ~TrainerAdapter() = default;
-  virtual std::string method() const = 0;         // "splat" | "nerf"
+  virtual std::string method() const = 0;         // "splat" | "nerf" | "ngp"
   virtual RunSchedule schedule() const = 0;
   virtual StepResult step() = 0;
   // The fraction of the time budget spent, before each step of a run that has one.
@@ -54,14 +54,15 @@ class TrainerAdapter {
   virtual void check_parameters_finite() const = 0;
   virtual void save_checkpoint(const std::filesystem::path& file) const = 0;
   virtual void load_checkpoint(const std::filesystem::path& file, const GivenSettings& given) = 0;
-  virtual std::string model_file_name() const = 0;  // "model.ply" | "model.nerf"
+  virtual std::string model_file_name() const = 0;  // "model.ply" | "model.nerf" | "model.ngp"
   virtual void write_model(const std::filesystem::path& file) const = 0;
   virtual void write_last_good_model(const std::filesystem::path& file) const = 0;
   virtual nlohmann::json config_json() const = 0;
   virtual void add_metrics(nlohmann::json& metrics) const = 0;  // method-specific fields
 };
 
-// The trainer of `method` ("splat" | "nerf") with its settings; the NeRF's scene space is
+// The trainer of `method` ("splat" | "nerf" | "ngp") with its settings (a NeRF method's
+// config must be of its preset: nerf_training_preset); the NeRF's scene space is
 // taken from the dataset unless its config fixes one.
 std::unique_ptr<TrainerAdapter> make_trainer(const std::string& method, const SplatTrainingConfig& splat_config,
                                              const NerfTrainingConfig& nerf_config, const Dataset& dataset);

@@ -71,6 +71,18 @@ std::string nerf_command(const fs::path& out, const std::string& extra, int lr_d
          " --out " + out.string() + " --config " + config.string() + " " + extra;
 }
 
+// The NGP preset with small tables and few samples, over the same tiny scene.
+std::string ngp_command(const fs::path& out, const std::string& extra) {
+  const fs::path config = out.parent_path() / "ngp_config.json";
+  test::write_text(config, R"({"method": "ngp", "rays_per_batch": 256,
+    "model": {"coarse": {"hash": {"levels": 4, "table_log2": 10, "max_resolution": 32}},
+              "fine": {"hash": {"levels": 8, "table_log2": 12, "max_resolution": 64}},
+              "coarse_samples": 16, "fine_samples": 8,
+              "box_min": [-2.5, -2.5, -2.5], "box_max": [2.5, 2.5, 2.5]}})");
+  return std::string(SPLAT_TRAIN_EXE) + " --method ngp --data " + tiny_dataset().string() + " --out " + out.string() +
+         " --config " + config.string() + " " + extra;
+}
+
 TEST(TrainCli, TrainsAndWritesTheContractOutputs) {
   const fs::path dir = test::scratch_dir("train_cli_basic");
   const auto r = test::run_command(train_command(dir / "out", "--iters 300 --test-every 100"), dir);
@@ -685,6 +697,30 @@ TEST(TrainCli, BadInputsFailCleanly) {
 namespace splat {
 namespace {
 
+// A NeRF run in dir/out: the loss falls and the test PSNR rises between the history's first
+// and last points, and splat-render draws from `model_name` exactly what the trainer's test
+// render shows.
+void expect_learns_and_renders(const fs::path& dir, const std::string& model_name) {
+  const nlohmann::json m = read_json(dir / "out" / "metrics.json");
+  const auto& history = m.at("history");
+  EXPECT_LT(history.back().at("loss").get<double>(), 0.6 * history.front().at("loss").get<double>());
+  double first_psnr = 0;
+  for (const auto& h : history)
+    if (h.contains("test_psnr")) {
+      first_psnr = h.at("test_psnr").get<double>();
+      break;
+    }
+  EXPECT_GT(m.at("test").at("psnr").get<double>(), first_psnr + 0.2);
+  const auto render = test::run_command(std::string(SPLAT_RENDER_EXE) + " --model " +
+                                            (dir / "out" / model_name).string() + " --cameras " +
+                                            (tiny_dataset() / "transforms_test.json").string() +
+                                            " --bg 1,1,1 --out " + (dir / "render").string(),
+                                        dir);
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  EXPECT_TRUE(test::read_file(dir / "render" / "view_000.png") ==
+              test::read_file(dir / "out" / "test" / "view_000.png"));
+}
+
 TEST(TrainCli, NerfTrainsAndWritesTheContractOutputs) {
   const fs::path dir = test::scratch_dir("train_cli_nerf");
   const auto r = test::run_command(nerf_command(dir / "out", "--iters 600 --test-every 100 --quiet"), dir);
@@ -694,32 +730,13 @@ TEST(TrainCli, NerfTrainsAndWritesTheContractOutputs) {
   EXPECT_EQ(m.at("iterations").get<int>(), 600);
   EXPECT_GT(m.at("num_params").get<long>(), 0);
   EXPECT_EQ(m.at("model_bytes").get<std::uintmax_t>(), fs::file_size(dir / "out" / "model.nerf"));
-  const auto& history = m.at("history");
-  ASSERT_GE(history.size(), 4u);
-  // It learns: the loss falls and the test PSNR rises between the first and last points.
+  ASSERT_GE(m.at("history").size(), 4u);
   // (The test views look from another elevation than the 12 training views, which a NeRF
   // this small and this short generalises to only roughly: hence the modest bars. From its
   // nearly transparent start the field has drawn 10.0 → 10.26 dB by iteration 600.)
-  EXPECT_LT(history.back().at("loss").get<double>(), 0.6 * history.front().at("loss").get<double>());
-  double first_psnr = 0;
-  for (const auto& h : history)
-    if (h.contains("test_psnr")) {
-      first_psnr = h.at("test_psnr").get<double>();
-      break;
-    }
-  EXPECT_GT(m.at("test").at("psnr").get<double>(), first_psnr + 0.2);
+  expect_learns_and_renders(dir, "model.nerf");
   for (const char* view : {"view_000", "view_001", "view_002"})
     EXPECT_TRUE(fs::exists(dir / "out" / "test" / (std::string(view) + ".png"))) << view;
-
-  // splat-render reads model.nerf and draws exactly what the trainer's test render shows.
-  const auto render = test::run_command(std::string(SPLAT_RENDER_EXE) + " --model " +
-                                            (dir / "out" / "model.nerf").string() + " --cameras " +
-                                            (tiny_dataset() / "transforms_test.json").string() +
-                                            " --bg 1,1,1 --out " + (dir / "render").string(),
-                                        dir);
-  ASSERT_EQ(render.exit_code, 0) << render.err;
-  EXPECT_TRUE(test::read_file(dir / "render" / "view_000.png") ==
-              test::read_file(dir / "out" / "test" / "view_000.png"));
 }
 
 TEST(TrainCli, NerfResultDoesNotDependOnThreadCount) {
@@ -790,6 +807,66 @@ TEST(TrainCli, NerfRejectsSplatOnlyOptionsAndBadModels) {
   EXPECT_NE(r.err.find("broken.nerf"), std::string::npos) << r.err;
 }
 
+TEST(TrainCli, NgpTrainsWritesModelNgpAndRendersIt) {
+  const fs::path dir = test::scratch_dir("train_cli_ngp");
+  const auto r = test::run_command(ngp_command(dir / "out", "--iters 300 --test-every 100 --quiet"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const nlohmann::json m = read_json(dir / "out" / "metrics.json");
+  EXPECT_EQ(m.at("method"), "ngp");
+  EXPECT_EQ(read_json(dir / "out" / "config.json").at("method"), "ngp");
+  EXPECT_EQ(m.at("model_bytes").get<std::uintmax_t>(), fs::file_size(dir / "out" / "model.ngp"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "model.nerf"));
+  EXPECT_EQ(test::read_file(dir / "out" / "model.ngp").substr(0, 8), "SPLATNGP");
+  ASSERT_GE(m.at("history").size(), 3u);
+  expect_learns_and_renders(dir, "model.ngp");
+
+  // A SPLATNRF header over hash-encoded settings is refused, and nothing is created.
+  std::string bytes = test::read_file(dir / "out" / "model.ngp");
+  bytes.replace(0, 8, "SPLATNRF");
+  test::write_text(dir / "mislabelled.nerf", bytes);
+  const auto bad = test::run_command(std::string(SPLAT_RENDER_EXE) + " --model " + (dir / "mislabelled.nerf").string() +
+                                         " --cameras " + (tiny_dataset() / "transforms_test.json").string() +
+                                         " --out " + (dir / "render_bad").string(),
+                                     dir);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("hash-encoded"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "render_bad"));
+}
+
+TEST(TrainCli, NgpResultDoesNotDependOnThreadCountAndResumesExactly) {
+  const fs::path dir = test::scratch_dir("train_cli_ngp_threads");
+  for (const char* threads : {"1", "2"}) {
+    fs::create_directories(dir / threads);
+    const auto r = test::run_command(
+        ngp_command(dir / threads / "out", std::string("--iters 60 --test-every 0 --quiet --threads ") + threads), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  EXPECT_TRUE(test::read_file(dir / "1" / "out" / "model.ngp") == test::read_file(dir / "2" / "out" / "model.ngp"))
+      << "NGP models trained with 1 and 2 threads differ";
+  auto r = test::run_command(ngp_command(dir / "split", "--iters 30 --checkpoint-every 30 --test-every 0 --quiet"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_command(ngp_command(dir / "split", "--iters 60 --test-every 0 --quiet --resume " + (dir / "split").string()),
+                        dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(test::read_file(dir / "2" / "out" / "model.ngp") == test::read_file(dir / "split" / "model.ngp"))
+      << "the resumed NGP model differs from the uninterrupted one";
+}
+
+TEST(TrainCli, NgpRefusesAConfigOfTheOtherMethodAndSplatOptions) {
+  const fs::path dir = test::scratch_dir("train_cli_ngp_bad");
+  test::write_text(dir / "nerf.json", R"({"method": "nerf"})");
+  auto r = test::run_command(std::string(SPLAT_TRAIN_EXE) + " --method ngp --data " + tiny_dataset().string() +
+                                 " --out " + (dir / "out").string() + " --config " + (dir / "nerf.json").string(),
+                             dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("nerf.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("\"ngp\""), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  r = test::run_command(ngp_command(dir / "out2", "--iters 10 --strategy official"), dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--method ngp"), std::string::npos) << r.err;
+}
+
 // The help states the defaults of the configs (their one place is the structs): it must say
 // what they are.
 TEST(TrainCli, HelpGivesTheConfigsDefaults) {
@@ -804,14 +881,18 @@ TEST(TrainCli, HelpGivesTheConfigsDefaults) {
   const auto n = [](auto value) { return std::to_string(value); };
   for (const std::string& expected :
        {"(default " + n(compact.iterations) + " compact, " + n(official.iterations) + " official, " +
-            n(nerf.iterations) + " nerf;",
-        "(default " + n(compact.test_interval) + " splat, " + n(nerf.test_interval) + " nerf;",
+            n(nerf.iterations) + " nerf and ngp;",
+        "(default " + n(compact.test_interval) + " splat, " + n(nerf.test_interval) + " nerf and ngp;",
         "(default " + n(compact.checkpoint_interval) + "; 0 = off)", "their mean (default " + n(compact.batch) + ")",
         "random seed (default " + n(compact.seed) + ")"})
     EXPECT_NE(help.find(expected), std::string::npos) << expected << " is not in the help:\n" << help;
   EXPECT_EQ(official.test_interval, compact.test_interval);
   EXPECT_EQ(official.checkpoint_interval, compact.checkpoint_interval);
   EXPECT_EQ(nerf.checkpoint_interval, compact.checkpoint_interval);
+  const NerfTrainingConfig ngp = nerf_training_preset("ngp");
+  EXPECT_EQ(ngp.iterations, nerf.iterations);
+  EXPECT_EQ(ngp.test_interval, nerf.test_interval);
+  EXPECT_EQ(ngp.checkpoint_interval, nerf.checkpoint_interval);
 }
 
 }  // namespace

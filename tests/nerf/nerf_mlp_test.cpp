@@ -32,6 +32,21 @@ NerfMlpConfig small_config(DensityActivation activation = DensityActivation::kSo
   return c;
 }
 
+// Instant-NGP's shape in miniature: a hash encoding (a dense level and two hashed ones) in
+// front of a one-layer trunk; 2·27 + 2·64·2 table values.
+NerfMlpConfig hash_config() {
+  NerfMlpConfig c = small_config();
+  c.encoding = PositionEncoding::kHash;
+  c.hash.levels = 3;
+  c.hash.features = 2;
+  c.hash.table_log2 = 6;
+  c.hash.base_resolution = 2;
+  c.hash.max_resolution = 12;
+  c.depth = 1;
+  c.skip_layer = -1;
+  return c;
+}
+
 // Positions uniform in [−1.5, 1.5]³, directions unit, [count, 3] each.
 template <typename Scalar>
 void random_inputs(std::size_t count, unsigned seed, std::vector<Scalar>& positions,
@@ -256,6 +271,37 @@ TEST(NerfMlp, GradientsMatchFiniteDifferencesNoSkipDepthOne) {
   check_gradients(config, 61);
 }
 
+// The tables' gradients too (every entry the 5 samples touch, and the untouched ones zero),
+// through the network; and with a skip connection, which feeds the code to a second layer.
+TEST(NerfMlp, GradientsMatchFiniteDifferencesHashEncoding) {
+  check_gradients(hash_config(), 71);
+  NerfMlpConfig deeper = hash_config();
+  deeper.depth = 3;
+  deeper.skip_layer = 2;
+  check_gradients(deeper, 81);
+}
+
+TEST(NerfMlp, HashTablesFollowTheLayersInitialisedSmall) {
+  const NerfMlp mlp(hash_config(), 3);
+  ASSERT_TRUE(mlp.hash_layout().has_value());
+  EXPECT_EQ(mlp.parameter_count(), mlp.layer_parameter_count() + mlp.hash_layout()->parameter_count());
+  const NerfLayerShape& first = mlp.layers()[0];
+  EXPECT_EQ(first.in, 6);  // levels · features
+  for (std::size_t k = mlp.layer_parameter_count(); k < mlp.parameter_count(); ++k)
+    ASSERT_LE(std::abs(mlp.parameters()[k]), 1e-4f) << k;
+}
+
+// A network's settings from a file written before the hash encoding read as the frequency one.
+TEST(NerfMlp, SettingsWithoutAnEncodingReadAsFrequency) {
+  nlohmann::json j = settings_json(small_config());
+  j.erase("encoding");
+  j.erase("hash");
+  const NerfMlpConfig read = read_nerf_mlp_config(j, {.path = "model.fine", .every_key = true});
+  EXPECT_EQ(read, small_config());
+  j.erase("width");
+  EXPECT_THROW(read_nerf_mlp_config(j, {.path = "model.fine", .every_key = true}), ArgumentError);
+}
+
 // Over several chunks and both gradient groups, the float pass (what training runs) agrees
 // with the double pass the finite-difference tests check, to float accuracy.
 TEST(NerfMlp, FloatGradientsAgreeWithDouble) {
@@ -334,8 +380,12 @@ TEST(NerfMlp, ContextIsReusedAcrossBatchSizes) {
 
 // The default network on 3,000 samples (12 chunks, two gradient groups): forward outputs,
 // parameter and position gradients are the same bytes with 1 and with 2 threads.
-TEST(NerfMlp, ThreadCountInvariantBitwise) {
-  const NerfMlp mlp(NerfMlpConfig{}, 5);
+class NerfMlpThreads : public ::testing::TestWithParam<PositionEncoding> {};
+
+TEST_P(NerfMlpThreads, ThreadCountInvariantBitwise) {
+  NerfMlpConfig config;
+  config.encoding = GetParam();
+  const NerfMlp mlp(config, 5);
   const std::size_t n = 3000;
   std::vector<float> positions, directions;
   random_inputs<float>(n, 101, positions, directions);
@@ -372,6 +422,9 @@ TEST(NerfMlp, ThreadCountInvariantBitwise) {
   EXPECT_TRUE(
       std::any_of(one.v_params.begin(), one.v_params.end(), [](float g) { return g != 0; }));
 }
+
+INSTANTIATE_TEST_SUITE_P(Encodings, NerfMlpThreads,
+                         ::testing::Values(PositionEncoding::kFrequency, PositionEncoding::kHash));
 
 }  // namespace
 }  // namespace splat

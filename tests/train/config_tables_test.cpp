@@ -188,8 +188,11 @@ TEST(ConfigTables, DesignListsEverySplatSettingWithItsDefaultAndTheCompactPreset
   expect_table_matches(rows, 2, 1, to_json(splat_training_preset("compact")), "compact");
 }
 
-TEST(ConfigTables, DesignListsEveryNerfSettingWithItsDefault) {
-  expect_table_matches(design_table("| Key | Default |"), 1, 0, to_json(NerfTrainingConfig{}), "NeRF");
+TEST(ConfigTables, DesignListsEveryNerfSettingWithItsDefaultAndTheNgpPreset) {
+  const std::vector<Row> rows = design_table("| Key | NeRF | NGP |");
+  expect_table_matches(rows, 1, 0, to_json(nerf_training_preset("nerf")), "NeRF");
+  expect_table_matches(rows, 2, 1, to_json(nerf_training_preset("ngp")), "NGP");
+  EXPECT_EQ(to_json(nerf_training_preset("nerf")), to_json(NerfTrainingConfig{}));
 }
 
 // The reader of the tables fails when they disagree with the code.
