@@ -34,7 +34,8 @@ struct EvalCommandOptions {
   int threads = 0;                   // 0 = all cores
   // --splat-config's settings (no "strategy"), applied over each splat method's preset.
   nlohmann::json splat_settings = nlohmann::json::object();
-  NerfTrainingConfig nerf_config;
+  NerfTrainingConfig nerf_config = nerf_training_preset("nerf");
+  NerfTrainingConfig ngp_config = nerf_training_preset("ngp");
   DatasetOptions dataset;
   bool quiet = false;
   // Stability conditions: which kinds run (kStabilityKinds), training views kept, and pose

@@ -11,7 +11,7 @@ namespace splat::cli {
 std::optional<std::string> splat_strategy(const std::string& method) {
   if (method == "splat") return "compact";
   if (method == "splat-official") return "official";
-  if (method == "nerf") return std::nullopt;
+  if (method == "nerf" || method == "ngp") return std::nullopt;
   std::string known;
   for (const char* name : kEvalMethods) known += std::string(known.empty() ? "" : ", ") + name;
   throw ArgumentError("--methods: unknown method '" + method + "' (known: " + known + ")");
@@ -62,9 +62,10 @@ MethodRunRequest method_request(const EvalCommandOptions& options, const std::st
     request.splat_config = splat_training_preset(*strategy);
     from_json(options.splat_settings, request.splat_config);
   }
-  request.nerf_config = options.nerf_config;
+  const bool ngp = method == "ngp";
+  request.nerf_config = ngp ? options.ngp_config : options.nerf_config;
   // The budget is the NeRF's limit, as splat-train's --max-seconds (train/main.cpp).
-  if (request.nerf_config.iterations == NerfTrainingConfig{}.iterations)
+  if (request.nerf_config.iterations == nerf_training_preset(request.nerf_config.method).iterations)
     request.nerf_config.iterations = kNerfIterationsUnderBudget;
   std::copy(options.dataset.background, options.dataset.background + 3, request.splat_config.background);
   std::copy(options.dataset.background, options.dataset.background + 3, request.nerf_config.background);

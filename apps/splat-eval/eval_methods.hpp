@@ -2,7 +2,8 @@
 // splat-eval's methods, by the names --methods and results.json use:
 //   splat           Gaussian splatting with the compact density strategy
 //   splat-official  Gaussian splatting with the official 3DGS density control
-//   nerf            the NeRF baseline
+//   nerf            the NeRF baseline (MLPs on a positional encoding)
+//   ngp             the NeRF with Instant-NGP's multiresolution hash encoding
 // and how a training run of one is set up from the command's options.
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -15,9 +16,9 @@
 
 namespace splat::cli {
 
-inline const char* const kEvalMethods[] = {"splat", "splat-official", "nerf"};
+inline const char* const kEvalMethods[] = {"splat", "splat-official", "nerf", "ngp"};
 
-// The density strategy of a splat method ("compact" | "official"); none for "nerf";
+// The density strategy of a splat method ("compact" | "official"); none for "nerf" and "ngp";
 // ArgumentError naming the known methods for any other name.
 std::optional<std::string> splat_strategy(const std::string& method);
 
@@ -32,7 +33,7 @@ std::vector<std::string> methods_to_run(const EvalCommandOptions& options);
 nlohmann::json read_splat_settings(const std::filesystem::path& file);
 
 // The trainer settings of `method`: for a splat method its strategy's preset with
-// options.splat_settings over it, for the NeRF options.nerf_config; then splat-eval's own
+// options.splat_settings over it, for the NeRF options.nerf_config, for NGP options.ngp_config; then splat-eval's own
 // (the dataset's background; no test points or checkpoints: the loop scores).
 MethodRunRequest method_request(const EvalCommandOptions& options, const std::string& method,
                                 const std::filesystem::path& out_dir);

@@ -20,17 +20,18 @@ constexpr const char* kUsage = R"(usage: splat-eval --data DIR --out DIR [option
 Trains each method in turn on one dataset, each for the same budget of training time (wall
 clock minus scoring, which is reported) and with the same threads, scoring the test views at
 regular points of training time. Then renders the test views with every final model, timing
-each render. The methods (--methods, in that order; default all three):
+each render. The methods (--methods, in that order; default all four):
   splat                 Gaussian splatting with the compact density strategy
   splat-official        Gaussian splatting with the official 3DGS density control
-  nerf                  the NeRF baseline
+  nerf                  the NeRF baseline (MLPs on a positional encoding)
+  ngp                   the NeRF with Instant-NGP's multiresolution hash encoding
 Writes into --out:
   results.json          per method: method, strategy (splat methods), history [{seconds,
                         iteration, test_psnr, test_ssim, num_gaussians, model_bytes}], final
                         {psnr, ssim}, num_gaussians (splat methods), num_params, model_bytes,
                         train_seconds, render_ms_per_view_median, model_file; plus the
                         dataset, budget and threads
-  <method>/model.ply or model.nerf, <method>/test/<view>.png: one folder per method
+  <method>/model.ply, model.nerf or model.ngp, <method>/test/<view>.png: one folder per method
   grids/<view>.png      ground truth | each method | each method's error; an error map is
                         grey min(1, 4 * mean over RGB of |render - truth|)
   charts/*.{png,svg}    drawn by gnuplot, a curve per method: PSNR and SSIM over training
@@ -62,7 +63,8 @@ can share one folder and one report. --report (with --out only) just redraws the
 
   --data DIR                  Blender/NeRF-synthetic or COLMAP folder (as splat-train)
   --out DIR                   output folder (created if missing)
-  --methods LIST              comma-separated methods to run, from splat, splat-official, nerf
+  --methods LIST              comma-separated methods to run, from splat, splat-official, nerf,
+                              ngp
   --max-seconds S             training budget per run in seconds (default 600)
   --stability                 run the stability conditions (see above)
   --stability-views N,N,...   training views kept in the fewer-views conditions (default 8,16,32)
@@ -82,6 +84,8 @@ can share one folder and one report. --report (with --out only) just redraws the
                               applied over each one's strategy preset; a "strategy" key in it
                               is ignored (with a warning): the method names the strategy
   --nerf-config FILE          JSON settings for the NeRF trainer (as splat-train --config)
+  --ngp-config FILE           JSON settings for the NGP trainer (as splat-train --method ngp
+                              --config)
   --fly-through N             after training, each method's orbit of N frames around the
                               training views' centre, OUT/<method>/orbit.mp4 (ffmpeg), shown
                               side by side in the report (the comparison only)
@@ -95,7 +99,7 @@ int main(int argc, char** argv) {
   return splat::cli::run_main([&] {
     splat::cli::ArgParser args(argc, argv,
                                {"data", "out", "methods", "max-seconds", "eval-every-seconds", "threads",
-                                "bg", "downscale", "splat-config", "nerf-config", "sweep-gaussians",
+                                "bg", "downscale", "splat-config", "nerf-config", "ngp-config", "sweep-gaussians",
                                 "stability-views", "stability-conditions", "pose-noise", "fly-through"},
                                {"help", "quiet", "stability", "report"});
     if (args.has("help")) {
@@ -107,7 +111,7 @@ int main(int argc, char** argv) {
       // The report is redrawn from the result files in --out alone: an option that would
       // change a run is a mistake, not something to ignore.
       for (const char* option : {"data", "methods", "max-seconds", "eval-every-seconds", "downscale", "splat-config",
-                                 "nerf-config", "sweep-gaussians", "stability-views", "stability-conditions",
+                                 "nerf-config", "ngp-config", "sweep-gaussians", "stability-views", "stability-conditions",
                                  "pose-noise", "fly-through", "bg"})
         if (args.value(option))
           throw splat::ArgumentError(std::string("--report redraws the report from --out alone; --") + option +
@@ -121,6 +125,7 @@ int main(int argc, char** argv) {
     if (auto list = args.words("methods")) options.methods = *list;  // checked by the run
     if (auto file = args.value("splat-config")) options.splat_settings = splat::cli::read_splat_settings(*file);
     if (auto file = args.value("nerf-config")) splat::read_config_file(*file, options.nerf_config);
+    if (auto file = args.value("ngp-config")) splat::read_config_file(*file, options.ngp_config);
     if (auto s = args.number("max-seconds", {0.01, splat::kMaxTrainingSeconds})) options.max_seconds = *s;
     if (auto t = args.number("eval-every-seconds", {0.01, splat::kMaxTrainingSeconds})) options.eval_every = *t;
     if (auto n = args.integer("threads", splat::cli::kThreadsRange)) options.threads = *n;

@@ -85,7 +85,7 @@ nlohmann::json pose_error_json(const PoseError& e, double scene_extent) {
 MethodRun run_method(const MethodRunRequest& request, const Dataset& dataset, EvalProgress& progress) {
   const std::optional<std::string> strategy = splat_strategy(request.method);
   std::unique_ptr<TrainerAdapter> trainer =
-      make_trainer(strategy ? "splat" : "nerf", request.splat_config, request.nerf_config, dataset);
+      make_trainer(strategy ? "splat" : request.method, request.splat_config, request.nerf_config, dataset);
   fs::create_directories(request.out_dir);
 
   MethodRun run;

@@ -23,7 +23,7 @@ namespace splat::cli {
 constexpr double kScoreShare = 0.1;
 
 struct MethodRunRequest {
-  std::string method;  // "splat" | "splat-official" | "nerf" (eval_methods.hpp)
+  std::string method;  // "splat" | "splat-official" | "nerf" | "ngp" (eval_methods.hpp)
   SplatTrainingConfig splat_config;
   NerfTrainingConfig nerf_config;
   double budget_seconds = 600;

@@ -30,6 +30,7 @@ void with_result_file(const std::filesystem::path& file, const std::function<voi
 std::string method_label(const nlohmann::json& run) {
   const std::string method = run.value("method", "splat");
   if (method == "nerf") return "NeRF";
+  if (method == "ngp") return "NGP";
   if (run.contains("strategy")) return "splat (" + run["strategy"].get<std::string>() + ")";
   return method;
 }

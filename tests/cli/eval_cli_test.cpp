@@ -36,6 +36,11 @@ fs::path tiny_dataset(const fs::path& dir) {
               "fine": {"depth": 2, "width": 32, "skip_layer": -1, "color_width": 16},
               "coarse_samples": 16, "fine_samples": 16, "render_sample_multiplier": 1,
               "box_min": [-2.5, -2.5, -2.5], "box_max": [2.5, 2.5, 2.5]}})");
+  test::write_text(dir / "ngp.json", R"({"method": "ngp", "iterations": 200, "rays_per_batch": 256,
+    "model": {"coarse": {"hash": {"levels": 4, "table_log2": 10, "max_resolution": 32}},
+              "fine": {"hash": {"levels": 8, "table_log2": 12, "max_resolution": 64}},
+              "coarse_samples": 16, "fine_samples": 8, "render_sample_multiplier": 1,
+              "box_min": [-2.5, -2.5, -2.5], "box_max": [2.5, 2.5, 2.5]}})");
   // (Scores at the training's sample count: the tests below need the history of scores
   // that the 10 % limit on scoring time lets this short run afford.)
   return d;
@@ -44,7 +49,7 @@ fs::path tiny_dataset(const fs::path& dir) {
 std::string eval_command(const fs::path& dir, const fs::path& data, const std::string& extra) {
   return std::string(SPLAT_EVAL_EXE) + " --data " + data.string() + " --out " + (dir / "out").string() +
          " --splat-config " + (dir / "splat.json").string() + " --nerf-config " +
-         (dir / "nerf.json").string() + " " + extra;
+         (dir / "nerf.json").string() + " --ngp-config " + (dir / "ngp.json").string() + " " + extra;
 }
 
 // report.html exists, shows each of `expected`, and every file it names is there.
@@ -154,17 +159,17 @@ TEST(EvalCli, MethodsDefaultToBothDensityStrategiesAndTheNerfEachWithItsFolderEn
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   EXPECT_NE(r.err.find("warning: "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("\"strategy\" ignored"), std::string::npos) << r.err;
-  for (const char* word : {"[splat 1/3]", "[splat-official 2/3]", "[nerf 3/3]"})
+  for (const char* word : {"[splat 1/4]", "[splat-official 2/4]", "[nerf 3/4]", "[ngp 4/4]"})
     EXPECT_NE(r.out.find(word), std::string::npos) << word << " not in:\n" << r.out;
 
   const fs::path out = dir / "out";
   const auto j = nlohmann::json::parse(test::read_file(out / "results.json"));
   const auto& methods = j.at("methods");
-  ASSERT_EQ(methods.size(), 3u);
-  const std::string names[] = {"splat", "splat-official", "nerf"};
-  const std::string strategies[] = {"compact", "official", ""};
-  const std::string models[] = {"splat/model.ply", "splat-official/model.ply", "nerf/model.nerf"};
-  for (int i = 0; i < 3; ++i) {
+  ASSERT_EQ(methods.size(), 4u);
+  const std::string names[] = {"splat", "splat-official", "nerf", "ngp"};
+  const std::string strategies[] = {"compact", "official", "", ""};
+  const std::string models[] = {"splat/model.ply", "splat-official/model.ply", "nerf/model.nerf", "ngp/model.ngp"};
+  for (int i = 0; i < 4; ++i) {
     const auto& m = methods[i];
     SCOPED_TRACE(names[i]);
     EXPECT_EQ(m.at("method"), names[i]);
@@ -183,17 +188,18 @@ TEST(EvalCli, MethodsDefaultToBothDensityStrategiesAndTheNerfEachWithItsFolderEn
     EXPECT_GT(m.at("final").at("psnr").get<double>(), 20.0);
     for (const auto& h : m.at("history")) EXPECT_GT(h.at("num_gaussians").get<std::size_t>(), 0u) << h.dump();
   }
-  const std::vector<std::string> panels = {"ground truth", "splat", "splat-official", "nerf",
-                                           "splat error", "splat-official error", "nerf error"};
+  const std::vector<std::string> panels = {"ground truth", "splat",       "splat-official",       "nerf",
+                                           "ngp",          "splat error", "splat-official error", "nerf error",
+                                           "ngp error"};
   EXPECT_EQ(j.at("grid").at("panels").get<std::vector<std::string>>(), panels);
   const Image grid = read_image(out / "grids" / "view_001.png");
-  EXPECT_EQ(grid.width, 7 * kSize);
+  EXPECT_EQ(grid.width, 9 * kSize);
   EXPECT_EQ(grid.height, kSize);
   for (const char* chart : {"psnr_vs_time", "psnr_vs_model_bytes", "psnr_vs_gaussians"})
     EXPECT_GT(fs::file_size(out / "charts" / (std::string(chart) + ".png")), 1000u) << chart;
   expect_report_files_exist(out, {"charts/psnr_vs_gaussians.png", "grids/view_000.png"});
   const std::string html = test::read_file(out / "report.html");
-  for (const char* label : {"splat (compact)", "splat (official)", "NeRF", "splat-official error"})
+  for (const char* label : {"splat (compact)", "splat (official)", "NeRF", "NGP", "splat-official error"})
     EXPECT_NE(html.find(label), std::string::npos) << label;
 
   // --report on a results.json from before --methods: splat and nerf, no strategies.
