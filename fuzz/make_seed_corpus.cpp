@@ -70,6 +70,7 @@ void write_image_seeds(const fs::path& dir, const fs::path& jpeg) {
 void write_nerf_seed(const fs::path& dir) {
   fs::create_directories(dir);
   write_nerf(NerfModel(fuzz::tiny_nerf_config().model, 1), dir / "tiny.nerf");
+  write_nerf(NerfModel(fuzz::tiny_ngp_config().model, 1), dir / "tiny.ngp");
 }
 
 void write_checkpoint_seeds(const fs::path& dir) {
@@ -80,6 +81,9 @@ void write_checkpoint_seeds(const fs::path& dir) {
   NerfTrainer nerf_trainer(fuzz::tiny_dataset(), fuzz::tiny_nerf_config());
   for (int i = 0; i < 3; ++i) nerf_trainer.step();
   nerf_trainer.save_checkpoint(dir / "nerf.ckpt");
+  NerfTrainer ngp_trainer(fuzz::tiny_dataset(), fuzz::tiny_ngp_config());
+  for (int i = 0; i < 3; ++i) ngp_trainer.step();
+  ngp_trainer.save_checkpoint(dir / "ngp.ckpt");
 }
 
 // One small model per file kind; the target reads each input as all three kinds.

@@ -1,4 +1,4 @@
-// .nerf model files (read_nerf).
+// .nerf and .ngp model files (read_nerf; the magic tells them apart).
 #include "fuzz/fuzz_support.hpp"
 #include "splat/nerf/nerf_file.hpp"
 

@@ -44,4 +44,18 @@ inline NerfTrainingConfig tiny_nerf_config() {
   return config;
 }
 
+// The NGP preset with hash tables of a few hundred values.
+inline NerfTrainingConfig tiny_ngp_config() {
+  NerfTrainingConfig config = nerf_training_preset("ngp");
+  for (NerfMlpConfig* network : {&config.model.coarse, &config.model.fine}) {
+    network->width = network->color_width = 8;
+    network->direction_frequencies = 1;
+    network->hash = {.levels = 2, .features = 2, .table_log2 = 6, .base_resolution = 2, .max_resolution = 8};
+  }
+  config.model.coarse_samples = config.model.fine_samples = 4;
+  config.model.occupancy_resolution = 8;
+  config.rays_per_batch = 64;
+  return config;
+}
+
 }  // namespace splat::fuzz

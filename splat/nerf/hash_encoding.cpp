@@ -71,7 +71,9 @@ void locate_block(const HashGridLayout::Level& level, int features, const Scalar
   for (int a = 0; a < 3; ++a)
     for (int j = 0; j < n; ++j) {
       const Scalar u = unit_positions[3 * (first + std::size_t(j)) + std::size_t(a)];
-      const Scalar s = std::min(std::max(u, Scalar(0)), Scalar(1)) * resolution;
+      // Clamped to [0, 1], NaN to 0 (every comparison with it is false): a cell index from NaN
+      // would be undefined behaviour.
+      const Scalar s = (u > Scalar(0) ? (u < Scalar(1) ? u : Scalar(1)) : Scalar(0)) * resolution;
       const Scalar floor_s = std::min(std::floor(s), last_cell);  // the upper face: the last cell
       lo[a][j] = std::uint32_t(floor_s);
       frac[a][j] = s - floor_s;
