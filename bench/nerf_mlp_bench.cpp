@@ -1,8 +1,11 @@
 // splat-nerf-mlp-bench: time of the NeRF MLP on one batch, forward alone and forward +
-// backward (parameter gradients only, as training runs it), for the paper's network and a
-// small one (depth 4, width 128, skip at layer 2). Prints one JSON line with the medians
-// over --repeats calls after one warm-up call, the minimum for reference, and the GEMM rate
-// (2 flops per weight per sample forward, twice that again backward).
+// backward (parameter gradients only, as training runs it), for the paper's network, a
+// small one (depth 4, width 128, skip at layer 2) and the NGP preset's fine network (hash
+// encoding in front of one 64-wide layer), whose hash encoding is also timed alone, forward
+// and its tables' VJP (every level, one after another as one thread would). Prints one JSON
+// line with the medians over --repeats calls after one warm-up call, the minimum for
+// reference, the GEMM rate (2 flops per layer weight per sample forward, twice that again
+// backward) and the nanoseconds per sample.
 //   build/bench/splat-nerf-mlp-bench [--samples 65536] [--threads N] [--repeats 5]
 #include <algorithm>
 #include <chrono>
@@ -17,7 +20,9 @@
 #include "apps/common/arg_parser.hpp"
 #include "apps/common/run_main.hpp"
 #include "splat/core/error.hpp"
+#include "splat/nerf/hash_encoding.hpp"
 #include "splat/nerf/nerf_mlp.hpp"
+#include "splat/train/nerf_training_config.hpp"
 
 namespace {
 
@@ -67,20 +72,51 @@ Timing time_network(const splat::NerfMlpConfig& config, std::size_t samples, int
           *std::min_element(forward_backward.begin(), forward_backward.end())};
 }
 
+// The hash encoding alone on `samples` points in the unit cube: forward, and the tables' VJP.
+struct EncodingTiming {
+  double forward_ms, table_vjp_ms;
+};
+
+EncodingTiming time_encoding(const splat::HashEncodingSettings& settings, std::size_t samples, int repeats) {
+  const splat::HashGridLayout layout(settings);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+  std::vector<float> unit(3 * samples), table(layout.parameter_count()), v_table(layout.parameter_count());
+  for (float& x : unit) x = uniform(rng);
+  for (float& x : table) x = 1e-4f * uniform(rng);
+  std::vector<float> code(samples * std::size_t(layout.output_size()));
+  using Clock = std::chrono::steady_clock;
+  std::vector<double> forward, backward;
+  for (int i = 0; i < 1 + repeats; ++i) {
+    const auto t0 = Clock::now();
+    splat::hash_encode(layout, table.data(), unit.data(), samples, code.data());
+    const auto t1 = Clock::now();
+    for (int level = 0; level < settings.levels; ++level)
+      splat::hash_encode_vjp_table(layout, level, unit.data(), samples, code.data(), v_table.data());
+    const auto t2 = Clock::now();
+    if (i == 0) continue;
+    forward.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    backward.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+  }
+  return {median(forward), median(backward)};
+}
+
 std::string json(const char* name, const splat::NerfMlpConfig& config, std::size_t samples,
                  const Timing& t) {
-  const double params = double(splat::NerfMlp(config).parameter_count());
+  const double params = double(splat::NerfMlp(config).layer_parameter_count());
   const double forward_gflop = 2.0 * params * double(samples) * 1e-9;
   char buffer[512];
   std::snprintf(buffer, sizeof buffer,
                 "\"%s\": {\"depth\": %d, \"width\": %d, \"parameters\": %.0f, "
                 "\"ms_forward\": %.1f, \"ms_forward_min\": %.1f, \"ms_forward_backward\": %.1f, "
                 "\"ms_forward_backward_min\": %.1f, \"gflops_forward\": %.1f, "
-                "\"gflops_forward_backward\": %.1f}",
+                "\"gflops_forward_backward\": %.1f, \"ns_per_sample_forward\": %.0f, "
+                "\"ns_per_sample_forward_backward\": %.0f}",
                 name, config.depth, config.width, params, t.forward_ms, t.forward_min_ms,
                 t.forward_backward_ms, t.forward_backward_min_ms,
                 forward_gflop / (t.forward_ms * 1e-3),
-                3 * forward_gflop / (t.forward_backward_ms * 1e-3));
+                3 * forward_gflop / (t.forward_backward_ms * 1e-3), t.forward_ms * 1e6 / double(samples),
+                t.forward_backward_ms * 1e6 / double(samples));
   return buffer;
 }
 
@@ -106,11 +142,16 @@ int main(int argc, char** argv) {
     small.depth = 4;
     small.width = 128;
     small.skip_layer = 2;
+    const splat::NerfMlpConfig ngp = splat::nerf_training_preset("ngp").model.fine;
     const Timing paper_time = time_network(paper, std::size_t(samples), repeats);
     const Timing small_time = time_network(small, std::size_t(samples), repeats);
-    std::printf("{\"samples\": %d, \"threads\": %d, \"repeats\": %d, %s, %s}\n", samples,
-                threads, repeats, json("default", paper, samples, paper_time).c_str(),
-                json("small", small, samples, small_time).c_str());
+    const Timing ngp_time = time_network(ngp, std::size_t(samples), repeats);
+    const EncodingTiming encoding = time_encoding(ngp.hash, std::size_t(samples), repeats);
+    std::printf("{\"samples\": %d, \"threads\": %d, \"repeats\": %d, %s, %s, %s, "
+                "\"ngp_encoding\": {\"ns_per_sample_forward\": %.0f, \"ns_per_sample_table_vjp\": %.0f}}\n",
+                samples, threads, repeats, json("default", paper, samples, paper_time).c_str(),
+                json("small", small, samples, small_time).c_str(), json("ngp", ngp, samples, ngp_time).c_str(),
+                encoding.forward_ms * 1e6 / double(samples), encoding.table_vjp_ms * 1e6 / double(samples));
     return 0;
   });
 }

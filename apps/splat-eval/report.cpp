@@ -1,9 +1,12 @@
 #include "apps/splat-eval/report.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "splat/core/atomic_file.hpp"
@@ -58,6 +61,51 @@ void chart(std::ostream& html, const fs::path& out, const std::string& name) {
        << "\" width=\"900\"></a></figure>\n";
 }
 
+// The first training time (s) at which `m`'s history scores at least `psnr`, if it does.
+std::optional<double> seconds_to_psnr(const json& m, double psnr) {
+  for (const json& h : m.value("history", json::array()))
+    if (h.contains("test_psnr") && h.at("test_psnr").get<double>() >= psnr) return h.at("seconds").get<double>();
+  return std::nullopt;
+}
+
+// Who wins where: the best score, the smallest file, the fastest render, and the first to
+// the best quality every method reaches (the level all curves share, so the race is fair).
+void comparison_verdicts(std::ostream& html, const json& methods) {
+  if (methods.size() < 2) return;
+  const auto best = [&](const auto& value, bool highest) {
+    const json* winner = &methods.front();
+    for (const json& m : methods)
+      if (highest ? value(m) > value(*winner) : value(m) < value(*winner)) winner = &m;
+    return winner;
+  };
+  const json* quality = best([](const json& m) { return m.at("final").at("psnr").get<double>(); }, true);
+  const json* size = best([](const json& m) { return m.at("model_bytes").get<double>(); }, false);
+  const json* render = best([](const json& m) { return m.at("render_ms_per_view_median").get<double>(); }, false);
+  html << "<p>Who wins where:</p>\n<ul>\n<li>best test PSNR: <b>" << escaped(method_label(*quality)) << "</b> ("
+       << fixed(quality->at("final").at("psnr"), 2) << " dB)</li>\n<li>smallest model file: <b>"
+       << escaped(method_label(*size)) << "</b> (" << megabytes(size->at("model_bytes")) << " MB)</li>\n"
+       << "<li>fastest render: <b>" << escaped(method_label(*render)) << "</b> ("
+       << fixed(render->at("render_ms_per_view_median"), 1) << " ms per view)</li>\n";
+  // The best score every method's curve reaches, and who reached it first.
+  double shared = std::numeric_limits<double>::infinity();
+  for (const json& m : methods) {
+    double top = -std::numeric_limits<double>::infinity();
+    for (const json& h : m.value("history", json::array()))
+      if (h.contains("test_psnr")) top = std::max(top, h.at("test_psnr").get<double>());
+    shared = std::min(shared, top);
+  }
+  if (std::isfinite(shared)) {
+    const json* first = nullptr;
+    double first_seconds = 0;
+    for (const json& m : methods)
+      if (const auto t = seconds_to_psnr(m, shared); t && (!first || *t < first_seconds)) first = &m, first_seconds = *t;
+    if (first)
+      html << "<li>first to " << fixed(shared, 2) << " dB (the best score every method reached during training): <b>"
+           << escaped(method_label(*first)) << "</b>, after " << fixed(first_seconds, 1) << " s</li>\n";
+  }
+  html << "</ul>\n";
+}
+
 void comparison_section(std::ostream& html, const fs::path& out, const json& r) {
   html << "<h2>The methods under one budget</h2>\n<p>Dataset <code>" << escaped(r.at("data"))
        << "</code>: " << r.at("test_views") << " test views at " << r.at("width") << "&times;" << r.at("height")
@@ -75,6 +123,7 @@ void comparison_section(std::ostream& html, const fs::path& out, const json& r) 
          << escaped(m.at("stopped_by")) << "</td></tr>\n";
   }
   html << "</table>\n";
+  comparison_verdicts(html, r.at("methods"));
   // The methods flying one path (--fly-through), side by side.
   std::string videos;
   for (const json& m : r.at("methods"))

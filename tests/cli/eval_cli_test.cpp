@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "tests/data/dataset_test_folders.hpp"
@@ -201,6 +202,16 @@ TEST(EvalCli, MethodsDefaultToBothDensityStrategiesAndTheNerfEachWithItsFolderEn
   const std::string html = test::read_file(out / "report.html");
   for (const char* label : {"splat (compact)", "splat (official)", "NeRF", "NGP", "splat-official error"})
     EXPECT_NE(html.find(label), std::string::npos) << label;
+  // The verdicts name the method with the best final score.
+  const std::map<std::string, std::string> labels = {
+      {"splat", "splat (compact)"}, {"splat-official", "splat (official)"}, {"nerf", "NeRF"}, {"ngp", "NGP"}};
+  const auto top = std::max_element(methods.begin(), methods.end(), [](const auto& a, const auto& b) {
+    return a.at("final").at("psnr").template get<double>() < b.at("final").at("psnr").template get<double>();
+  });
+  EXPECT_NE(html.find("best test PSNR: <b>" + labels.at(top->at("method").get<std::string>()) + "</b>"),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find("the best score every method reached during training"), std::string::npos);
 
   // --report on a results.json from before --methods: splat and nerf, no strategies.
   const fs::path old = dir / "old";
