@@ -38,8 +38,8 @@ inline SplatTrainingConfig tiny_splat_config() {
 
 inline NerfTrainingConfig tiny_nerf_config() {
   NerfTrainingConfig config;
-  config.model.coarse = {2, 1, 1, 8, -1, 8, DensityActivation::kSoftplus};
-  config.model.fine = {2, 1, 1, 8, -1, 8, DensityActivation::kSoftplus};
+  const NerfMlpConfig tiny = frequency_mlp_config(2, 1, 1, 8, -1, 8);
+  config.model.coarse = config.model.fine = tiny;
   config.model.occupancy_resolution = 8;
   return config;
 }

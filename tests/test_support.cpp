@@ -94,7 +94,7 @@ Dataset orbit_dataset(const glm::vec3& target, float radius, float fov_x, int si
 
 void write_tiny_nerf(const std::filesystem::path& file) {
   NerfSettings settings;
-  settings.coarse = {4, 2, 2, 16, -1, 8, DensityActivation::kSoftplus};
+  settings.coarse = frequency_mlp_config(4, 2, 2, 16, -1, 8);
   settings.fine = settings.coarse;
   settings.coarse_samples = 16;
   settings.fine_samples = 8;

@@ -89,6 +89,20 @@ void describe_settings(Table& t, NerfMlpConfig& c) {
   t.section("hash", c.hash);
 }
 
+// A positionally encoded network of these sizes, every other setting its default (the
+// softplus density): the baseline's networks in a line each.
+inline NerfMlpConfig frequency_mlp_config(int position_frequencies, int direction_frequencies, int depth, int width,
+                                          int skip_layer, int color_width) {
+  NerfMlpConfig c;
+  c.position_frequencies = position_frequencies;
+  c.direction_frequencies = direction_frequencies;
+  c.depth = depth;
+  c.width = width;
+  c.skip_layer = skip_layer;
+  c.color_width = color_width;
+  return c;
+}
+
 // Reads a network's settings as a .nerf header or a config section spells them, every key
 // needed except `encoding` and `hash`, which files written before the hash encoding lack
 // (they read as the frequency encoding).

@@ -28,8 +28,8 @@ struct NerfSettings {
   // fine network's cost per sample (15.5k against 92.6k weights). The fine network (4×128) sees the kept coarse positions plus
   // 16 importance samples. In time-matched probes on lego400 (600 s, one thread) these scored
   // 24.39 dB, the other settings tried 22.28–24.21.
-  NerfMlpConfig coarse{10, 4, 2, 64, -1, 32, DensityActivation::kSoftplus};
-  NerfMlpConfig fine{10, 4, 4, 128, 2, 64, DensityActivation::kSoftplus};
+  NerfMlpConfig coarse = frequency_mlp_config(10, 4, 2, 64, -1, 32);
+  NerfMlpConfig fine = frequency_mlp_config(10, 4, 4, 128, 2, 64);
   int coarse_samples = 64;  // stratified, per ray, before empty space is dropped
   int fine_samples = 16;    // importance-sampled from the coarse weights
   // Renders for evaluation (scores, splat-render, the viewer) place this many times

@@ -17,8 +17,8 @@ namespace {
 
 NerfSettings tiny_settings() {
   NerfSettings s;
-  s.coarse = {2, 1, 2, 8, -1, 6, DensityActivation::kSoftplus};
-  s.fine = {2, 1, 2, 8, -1, 6, DensityActivation::kSoftplus};
+  s.coarse = frequency_mlp_config(2, 1, 2, 8, -1, 6);
+  s.fine = frequency_mlp_config(2, 1, 2, 8, -1, 6);
   s.coarse_samples = 8;
   s.fine_samples = 8;
   // The unjittered renders below then place the samples training does (8 per ray), the
