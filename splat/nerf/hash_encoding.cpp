@@ -54,11 +54,13 @@ namespace {
 
 constexpr int kBlock = 16;
 
-// Corner c of sample j of a block: its entry's first float (index · F) and its weight.
+// Corner c of sample j of a block: its entry's first float (index · F) and its weight; and
+// the sample's place in its cell along each axis, which the weights are made of.
 template <typename Scalar>
 struct BlockCorners {
   std::int32_t entry[8][kBlock];
   Scalar weight[8][kBlock];
+  Scalar frac[3][kBlock];
 };
 
 // The corners on `level` of samples [first, first + n) (n ≤ kBlock).
@@ -67,7 +69,7 @@ void locate_block(const HashGridLayout::Level& level, int features, const Scalar
                   std::size_t first, int n, BlockCorners<Scalar>& corners) {
   const Scalar resolution = Scalar(level.resolution), last_cell = Scalar(level.resolution - 1);
   std::uint32_t lo[3][kBlock];
-  Scalar frac[3][kBlock];
+  Scalar(&frac)[3][kBlock] = corners.frac;
   for (int a = 0; a < 3; ++a)
     for (int j = 0; j < n; ++j) {
       const Scalar u = unit_positions[3 * (first + std::size_t(j)) + std::size_t(a)];
@@ -164,9 +166,8 @@ Cell<Scalar> locate(const HashGridLayout::Level& level, const Scalar* u) {
   Cell<Scalar> cell;
   for (int c = 0; c < 8; ++c) cell.index[c] = std::uint32_t(corners.entry[c][0]);
   for (int a = 0; a < 3; ++a) {
-    cell.inside[a] = u[a] >= Scalar(0) && u[a] <= Scalar(1);
-    const Scalar s = std::min(std::max(u[a], Scalar(0)), Scalar(1)) * Scalar(level.resolution);
-    cell.frac[a] = s - std::min(std::floor(s), Scalar(level.resolution - 1));
+    cell.inside[a] = u[a] >= Scalar(0) && u[a] <= Scalar(1);  // false for NaN
+    cell.frac[a] = corners.frac[a][0];
   }
   return cell;
 }
