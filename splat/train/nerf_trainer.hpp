@@ -5,6 +5,7 @@
 // the networks' densities so that rays skip empty space. No printing: the command line
 // reports progress.
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <random>
 #include <vector>
@@ -53,6 +54,13 @@ class NerfTrainer {
   // run's apply).
   void load_checkpoint(const std::filesystem::path& file, const GivenSettings& given = {});
 
+  // Samples the networks evaluated, summed over this process's steps (a resumed run counts
+  // from its resumption): with the step timings, what a sample costs.
+  struct SampleCounts {
+    std::uint64_t steps = 0, rays = 0, coarse = 0, fine = 0;
+  };
+  const SampleCounts& sample_counts() const { return sample_counts_; }
+
   // The rate the next step takes (the decay above).
   float learning_rate() const;
   // How far the rate's decay has gone, 0 … 1: the iterations' share of lr_decay_iterations,
@@ -73,6 +81,7 @@ class NerfTrainer {
   std::mt19937 rng_;
   int iteration_ = 0;
   double time_budget_fraction_ = 0;
+  SampleCounts sample_counts_;
   NerfRenderer renderer_;
   NerfForwardContext forward_;  // the training batch's forward, and the scoring renders'
   std::vector<Ray> rays_;

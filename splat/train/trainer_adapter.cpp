@@ -156,6 +156,11 @@ class NerfAdapter final : public DelegatingAdapter<NerfTrainer, NerfTrainingConf
   }
   void add_metrics(nlohmann::json& m) const override {
     m["occupied_cells"] = trainer_.model().grid.occupied_count();
+    const NerfTrainer::SampleCounts& counts = trainer_.sample_counts();
+    const double steps = double(std::max<std::uint64_t>(1, counts.steps));
+    m["samples_per_iteration"] = {{"rays", double(counts.rays) / steps},
+                                  {"coarse", double(counts.coarse) / steps},
+                                  {"fine", double(counts.fine) / steps}};
   }
 };
 

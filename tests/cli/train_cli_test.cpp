@@ -819,6 +819,15 @@ TEST(TrainCli, NgpTrainsWritesModelNgpAndRendersIt) {
   EXPECT_EQ(test::read_file(dir / "out" / "model.ngp").substr(0, 8), "SPLATNGP");
   ASSERT_GE(m.at("history").size(), 3u);
   expect_learns_and_renders(dir, "model.ngp");
+  // What a step evaluated: the config's 256 rays; at most 16 coarse samples per ray, and the
+  // fine pass at most the coarse ones and 8 more; some of each, and the grid skipping others
+  // once it has learnt where the object is not.
+  const nlohmann::json& samples = m.at("samples_per_iteration");
+  EXPECT_EQ(samples.at("rays").get<double>(), 256.0);
+  EXPECT_GT(samples.at("coarse").get<double>(), 0.0);
+  EXPECT_LT(samples.at("coarse").get<double>(), 256.0 * 16);
+  EXPECT_GT(samples.at("fine").get<double>(), 0.0);
+  EXPECT_LE(samples.at("fine").get<double>(), 256.0 * (16 + 8));
 
   // A SPLATNRF header over hash-encoded settings is refused, and nothing is created.
   std::string bytes = test::read_file(dir / "out" / "model.ngp");
