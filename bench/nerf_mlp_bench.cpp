@@ -5,10 +5,13 @@
 // and its tables' VJP (every level, one after another as one thread would). Prints one JSON
 // line with the medians over --repeats calls after one warm-up call, the minimum for
 // reference, the GEMM rate (2 flops per layer weight per sample forward, twice that again
-// backward) and the nanoseconds per sample.
+// backward) and the nanoseconds per sample. For the encoding it also prints the memory floor:
+// the time of one read at a random place in a buffer the size of its tables, and that time
+// for the 4 cache lines per level a sample in uncached cells reads.
 //   build/bench/splat-nerf-mlp-bench [--samples 65536] [--threads N] [--repeats 5]
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <random>
@@ -101,6 +104,34 @@ EncodingTiming time_encoding(const splat::HashEncodingSettings& settings, std::s
   return {median(forward), median(backward)};
 }
 
+// The memory floor under the encoding: reads of a float pair at random places in a buffer as
+// large as the NGP tables, eight independent streams in flight (a level's 8 corners). A
+// corner and its x neighbour share a cache line, so a sample costs about 4 such reads per
+// level when its cells are not in cache.
+double random_pair_read_ns(std::size_t floats, std::size_t reads) {
+  std::vector<float> buffer(floats, 1.0f);
+  const std::uint64_t pairs = floats / 2;
+  constexpr int kStreams = 8;
+  reads -= reads % kStreams;
+  std::uint32_t state[kStreams];
+  double sum[kStreams] = {};  // one per stream: a shared sum would chain the reads' additions
+  for (int s = 0; s < kStreams; ++s) state[s] = 0x9e3779b9u * std::uint32_t(s + 1);
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::size_t r = 0; r < reads; r += kStreams)
+    for (int s = 0; s < kStreams; ++s) {
+      std::uint32_t x = state[s];  // xorshift32
+      x ^= x << 13, x ^= x >> 17, x ^= x << 5;
+      state[s] = x;
+      const std::size_t pair = std::size_t((std::uint64_t(x) * pairs) >> 32);
+      sum[s] += buffer[2 * pair] + buffer[2 * pair + 1];
+    }
+  const auto t1 = std::chrono::steady_clock::now();
+  double total = 0;
+  for (double x : sum) total += x;
+  if (total != double(2 * reads)) throw splat::Error("random_pair_read_ns: the reads were not made");
+  return std::chrono::duration<double, std::nano>(t1 - t0).count() / double(reads);
+}
+
 std::string json(const char* name, const splat::NerfMlpConfig& config, std::size_t samples,
                  const Timing& t) {
   const double params = double(splat::NerfMlp(config).layer_parameter_count());
@@ -147,11 +178,18 @@ int main(int argc, char** argv) {
     const Timing small_time = time_network(small, std::size_t(samples), repeats);
     const Timing ngp_time = time_network(ngp, std::size_t(samples), repeats);
     const EncodingTiming encoding = time_encoding(ngp.hash, std::size_t(samples), repeats);
+    const splat::HashGridLayout layout(ngp.hash);
+    std::vector<double> read_ns;
+    for (int i = 0; i < repeats; ++i)
+      read_ns.push_back(random_pair_read_ns(layout.parameter_count(), std::size_t(samples) * 64));
+    const double pair_read_ns = median(read_ns);
     std::printf("{\"samples\": %d, \"threads\": %d, \"repeats\": %d, %s, %s, %s, "
-                "\"ngp_encoding\": {\"ns_per_sample_forward\": %.0f, \"ns_per_sample_table_vjp\": %.0f}}\n",
+                "\"ngp_encoding\": {\"ns_per_sample_forward\": %.0f, \"ns_per_sample_table_vjp\": %.0f, "
+                "\"ns_per_random_pair_read\": %.2f, \"ns_per_sample_read_floor\": %.0f}}\n",
                 samples, threads, repeats, json("default", paper, samples, paper_time).c_str(),
                 json("small", small, samples, small_time).c_str(), json("ngp", ngp, samples, ngp_time).c_str(),
-                encoding.forward_ms * 1e6 / double(samples), encoding.table_vjp_ms * 1e6 / double(samples));
+                encoding.forward_ms * 1e6 / double(samples), encoding.table_vjp_ms * 1e6 / double(samples),
+                pair_read_ns, pair_read_ns * 4 * ngp.hash.levels);
     return 0;
   });
 }
