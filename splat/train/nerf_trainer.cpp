@@ -140,7 +140,6 @@ StepResult NerfTrainer::step() {
   renderer_.forward(model_, rays_, config_.background, /*jitter=*/true, rng_, forward_);
   result.timings.forward = ms_since(start);
   ++sample_counts_.steps;
-  sample_counts_.rays += batch;
   sample_counts_.coarse += forward_.coarse_sample_count();
   sample_counts_.fine += forward_.fine_sample_count();
 

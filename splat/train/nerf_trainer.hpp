@@ -55,9 +55,10 @@ class NerfTrainer {
   void load_checkpoint(const std::filesystem::path& file, const GivenSettings& given = {});
 
   // Samples the networks evaluated, summed over this process's steps (a resumed run counts
-  // from its resumption): with the step timings, what a sample costs.
+  // from its resumption): with the step timings, what a sample costs. Each step traces
+  // config().rays_per_batch rays.
   struct SampleCounts {
-    std::uint64_t steps = 0, rays = 0, coarse = 0, fine = 0;
+    std::uint64_t steps = 0, coarse = 0, fine = 0;
   };
   const SampleCounts& sample_counts() const { return sample_counts_; }
 

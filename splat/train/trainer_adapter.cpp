@@ -158,7 +158,7 @@ class NerfAdapter final : public DelegatingAdapter<NerfTrainer, NerfTrainingConf
     m["occupied_cells"] = trainer_.model().grid.occupied_count();
     const NerfTrainer::SampleCounts& counts = trainer_.sample_counts();
     const double steps = double(std::max<std::uint64_t>(1, counts.steps));
-    m["samples_per_iteration"] = {{"rays", double(counts.rays) / steps},
+    m["samples_per_iteration"] = {{"rays", trainer_.config().rays_per_batch},
                                   {"coarse", double(counts.coarse) / steps},
                                   {"fine", double(counts.fine) / steps}};
   }
