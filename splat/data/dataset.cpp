@@ -68,8 +68,10 @@ Camera reduced_camera(const Camera& camera, int reduction) {
   return camera.resized(camera.width / reduction, camera.height / reduction);
 }
 
+// The image composited onto `background`; `alpha` gets its opacity where the file has an alpha
+// channel that is below 1 somewhere, and is left empty otherwise.
 Image read_rgb(const fs::path& file, int width, int height, int reduction, const std::string& size_source,
-               const float background[3]) {
+               const float background[3], Image& alpha) {
   std::error_code ec;
   if (!fs::exists(file, ec)) throw InputError(file, "image file does not exist");
   Image image;
@@ -99,6 +101,13 @@ Image read_rgb(const fs::path& file, int width, int height, int reduction, const
   if (image.channels != 4)
     throw InputError(file, "expected an RGB or RGBA image, not " +
                                std::to_string(image.channels) + " channels");
+  Image opacity(image.width, image.height, 1);
+  bool transparent = false;
+  for (std::size_t p = 0; p < opacity.pixel_count(); ++p) {
+    opacity.data[p] = image.data[4 * p + 3];
+    transparent = transparent || opacity.data[p] < 1.0f;
+  }
+  if (transparent) alpha = std::move(opacity);
   return composite_onto(image, background);
 }
 
@@ -111,6 +120,7 @@ void downscale_view(DatasetView& view, int downscale, const fs::path& file) {
                                ", too small to downscale by " + std::to_string(downscale));
   view.image = resample_area(view.image, width, height);
   if (!view.mask.empty()) view.mask = resample_area(view.mask, width, height);
+  if (!view.alpha.empty()) view.alpha = resample_area(view.alpha, width, height);
   view.camera = view.camera.resized(width, height);
 }
 
@@ -131,9 +141,9 @@ Image read_mask(const fs::path& file, int width, int height, int reduction) {
   return mask;
 }
 
-// The mask as the photo's undistortion sees it: the same resampling, one channel carried as
-// three; nothing outside the photo counts.
-Image undistorted_mask(const Image& mask, const Camera& pinhole, const LensDistortion& distortion) {
+// A mask or opacity as the photo's undistortion sees it: the same resampling, one channel
+// carried as three; nothing outside the photo counts.
+Image undistorted_channel(const Image& mask, const Camera& pinhole, const LensDistortion& distortion) {
   Image rgb(mask.width, mask.height, 3);
   for (std::size_t p = 0; p < mask.pixel_count(); ++p)
     for (int c = 0; c < 3; ++c) rgb.data[3 * p + std::size_t(c)] = mask.data[p];
@@ -167,7 +177,7 @@ void load_view(const ViewSource& source, int downscale, const float background[3
   const int width = source.camera.width, height = source.camera.height;
   const int reduction = read_reduction(width, height, downscale);
   view.camera = reduced_camera(source.camera, reduction);
-  view.image = read_rgb(source.image, width, height, reduction, source.size_source, background);
+  view.image = read_rgb(source.image, width, height, reduction, source.size_source, background, view.alpha);
   if (!source.mask.empty()) view.mask = read_mask(source.mask, width, height, reduction);
   if (!source.distortion.is_identity()) {  // the photo through a pinhole, cut to its cover
     PixelRect covered;
@@ -183,7 +193,9 @@ void load_view(const ViewSource& source, int downscale, const float background[3
     }
     view.image = crop_image(undistort_image(view.image, view.camera, source.distortion, background), covered);
     if (!view.mask.empty())
-      view.mask = crop_image(undistorted_mask(view.mask, view.camera, source.distortion), covered);
+      view.mask = crop_image(undistorted_channel(view.mask, view.camera, source.distortion), covered);
+    if (!view.alpha.empty())
+      view.alpha = crop_image(undistorted_channel(view.alpha, view.camera, source.distortion), covered);
     view.camera = crop_camera(view.camera, covered);
   }
   downscale_view(view, downscale / reduction, source.image);

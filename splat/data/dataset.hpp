@@ -19,6 +19,10 @@ struct DatasetView {
   // [H, W, 1] weights in [0, 1] from a nerfstudio mask: pixels at 0 are neither trained on
   // nor scored. Empty (the usual case): every pixel counts.
   Image mask = {};
+  // [H, W, 1] the file's opacity, where it had an alpha channel that is not 1 everywhere;
+  // empty otherwise. `image` is already composited with it; a trainer that wants another
+  // background behind a pixel recovers it as image + (1 − alpha)(other − background).
+  Image alpha = {};
   // The share of the image's frame (its outermost rows and columns) that shows only the
   // plain background it was composited onto: transparent in the file, or that colour
   // exactly. Near 1 for an object rendered or photographed on its own, near 0 when the

@@ -87,32 +87,32 @@ void NerfRenderer::place_fine(const NerfModel& model, std::span<const Ray> rays,
 }
 
 void NerfRenderer::evaluate(const NerfMlp& mlp, std::span<const Ray> rays, Pass& pass,
-                            const float background[3]) {
+                            RayBackgrounds backgrounds) {
   const std::size_t s = pass.t.size();
   pass.sigma.resize(s);
   pass.rgb.resize(3 * s);
   if (s > 0) mlp.forward(pass.positions, pass.directions, pass.sigma, pass.rgb, pass.mlp);
   pass.render.resize(rays.size(), s);
-  volume_render(pass.batch(), pass.sigma, pass.rgb, background, pass.render);
+  volume_render(pass.batch(), pass.sigma, pass.rgb, backgrounds, pass.render);
 }
 
 void NerfRenderer::forward(const NerfModel& model, std::span<const Ray> rays,
-                           const float background[3], bool jitter, std::mt19937& rng,
+                           RayBackgrounds backgrounds, bool jitter, std::mt19937& rng,
                            NerfForwardContext& context) {
-  std::copy(background, background + 3, context.background);
+  context.backgrounds.assign(backgrounds.values, backgrounds.values + 3 * backgrounds.colors);
   place_coarse(model, rays, jitter, rng, context.coarse);
-  evaluate(model.coarse, rays, context.coarse, background);
+  evaluate(model.coarse, rays, context.coarse, context.ray_backgrounds());
   place_fine(model, rays, jitter, rng, context.coarse, context.fine);
-  evaluate(model.fine, rays, context.fine, background);
+  evaluate(model.fine, rays, context.fine, context.ray_backgrounds());
 }
 
 void NerfRenderer::backward_pass(const NerfMlp& mlp, Pass& pass, std::span<const float> v_color,
-                                 const float background[3], std::span<float> v_params) {
+                                 RayBackgrounds backgrounds, std::span<float> v_params) {
   const std::size_t s = pass.t.size();
   if (s == 0) return;
   v_sigma_.resize(s);
   v_rgb_.resize(3 * s);
-  volume_render_backward(pass.batch(), pass.sigma, pass.rgb, background, pass.render, v_color,
+  volume_render_backward(pass.batch(), pass.sigma, pass.rgb, backgrounds, pass.render, v_color,
                          v_sigma_, v_rgb_);
   mlp.backward(pass.mlp, v_sigma_, v_rgb_, v_params);
 }
@@ -120,8 +120,8 @@ void NerfRenderer::backward_pass(const NerfMlp& mlp, Pass& pass, std::span<const
 void NerfRenderer::backward(const NerfModel& model, NerfForwardContext& context,
                             std::span<const float> v_coarse_color, std::span<const float> v_fine_color,
                             std::span<float> v_coarse_params, std::span<float> v_fine_params) {
-  backward_pass(model.coarse, context.coarse, v_coarse_color, context.background, v_coarse_params);
-  backward_pass(model.fine, context.fine, v_fine_color, context.background, v_fine_params);
+  backward_pass(model.coarse, context.coarse, v_coarse_color, context.ray_backgrounds(), v_coarse_params);
+  backward_pass(model.fine, context.fine, v_fine_color, context.ray_backgrounds(), v_fine_params);
 }
 
 Image NerfRenderer::render_image(const NerfModel& model, const Camera& camera, const float background[3],

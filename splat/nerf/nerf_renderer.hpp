@@ -39,7 +39,11 @@ struct NerfForwardContext {
     RaySampleBatch batch() const { return {offsets, t, delta}; }
   };
   Pass coarse, fine;
-  float background[3] = {1, 1, 1};
+  // The colour behind the rays, as forward() was given it: 3 values for all, or [R, 3].
+  std::vector<float> backgrounds = {1, 1, 1};
+  RayBackgrounds ray_backgrounds() const {
+    return backgrounds.size() == 3 ? RayBackgrounds(backgrounds.data()) : RayBackgrounds(std::span(backgrounds));
+  }
 
   // [R, 3] colours, with the background.
   const std::vector<float>& coarse_color() const { return coarse.render.color; }
@@ -52,8 +56,8 @@ class NerfRenderer {
  public:
   // Renders `rays` into `context`; `jitter` draws sample positions from `rng` (training),
   // otherwise they are deterministic midpoints (evaluation, settings.coarse_samples_for(true)
-  // of them; `rng` unused).
-  void forward(const NerfModel& model, std::span<const Ray> rays, const float background[3],
+  // of them; `rng` unused). `backgrounds`: one colour, or one per ray.
+  void forward(const NerfModel& model, std::span<const Ray> rays, RayBackgrounds backgrounds,
                bool jitter, std::mt19937& rng, NerfForwardContext& context);
 
   // Cotangents of `context`'s colours [R, 3] (from forward() with this model) →
@@ -83,9 +87,9 @@ class NerfRenderer {
   void place_fine(const NerfModel& model, std::span<const Ray> rays, bool jitter, std::mt19937& rng,
                   const Pass& coarse, Pass& pass);
   static void evaluate(const NerfMlp& mlp, std::span<const Ray> rays, Pass& pass,
-                       const float background[3]);
+                       RayBackgrounds backgrounds);
   void backward_pass(const NerfMlp& mlp, Pass& pass, std::span<const float> v_color,
-                     const float background[3], std::span<float> v_params);
+                     RayBackgrounds backgrounds, std::span<float> v_params);
 
   // Scratch: one ray's samples while placing them, and a pass's cotangents in the backward.
   std::vector<float> scratch_t_, scratch_delta_, scratch_fine_, v_sigma_, v_rgb_;

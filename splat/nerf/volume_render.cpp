@@ -34,6 +34,14 @@ void check_batch(const RaySampleBatch& samples, std::span<const float> sigma,
   expect_size(rgb.size(), 3 * s, "rgb");
 }
 
+void check_backgrounds(const RayBackgrounds& backgrounds, std::size_t rays) {
+  if (backgrounds.values == nullptr && rays > 0)
+    throw ArgumentError("volume render: no background colour");
+  if (backgrounds.stride != 0 && backgrounds.colors != rays)
+    throw ArgumentError("volume render: " + std::to_string(backgrounds.colors) +
+                        " background colours for " + std::to_string(rays) + " rays");
+}
+
 // Rays per task: enough work to amortise scheduling; the split does not affect results.
 constexpr std::size_t kRayGrain = 64;
 
@@ -50,9 +58,10 @@ void VolumeRenderResult::resize(std::size_t rays, std::size_t samples) {
 }
 
 void volume_render(const RaySampleBatch& samples, std::span<const float> sigma,
-                   std::span<const float> rgb, const float background[3],
+                   std::span<const float> rgb, RayBackgrounds backgrounds,
                    VolumeRenderResult& result) {
   check_batch(samples, sigma, rgb);
+  check_backgrounds(backgrounds, samples.ray_count());
   result.resize(samples.ray_count(), samples.sample_count());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples.ray_count(), kRayGrain),
                     [&](const tbb::blocked_range<std::size_t>& rays) {
@@ -63,7 +72,7 @@ void volume_render(const RaySampleBatch& samples, std::span<const float> sigma,
         result.sample_alpha[i] = density_to_alpha(sigma[i], samples.delta[i]);
       const RayComposite<float> ray =
           composite_ray(end - begin, result.sample_alpha.data() + begin, rgb.data() + 3 * begin,
-                        samples.t.data() + begin, background, result.weights.data() + begin);
+                        samples.t.data() + begin, backgrounds.of(r), result.weights.data() + begin);
       for (int c = 0; c < 3; ++c) result.color[3 * r + c] = ray.color[c];
       result.alpha[r] = ray.alpha;
       result.depth[r] = ray.depth;
@@ -74,10 +83,11 @@ void volume_render(const RaySampleBatch& samples, std::span<const float> sigma,
 }
 
 void volume_render_backward(const RaySampleBatch& samples, std::span<const float> sigma,
-                            std::span<const float> rgb, const float background[3],
+                            std::span<const float> rgb, RayBackgrounds backgrounds,
                             const VolumeRenderResult& forward, std::span<const float> v_color,
                             std::span<float> v_sigma, std::span<float> v_rgb) {
   check_batch(samples, sigma, rgb);
+  check_backgrounds(backgrounds, samples.ray_count());
   const std::size_t r_count = samples.ray_count(), s_count = samples.sample_count();
   expect_size(forward.final_transmittance.size(), r_count, "the forward result (rays)");
   expect_size(forward.blended_count.size(), r_count, "the forward result (rays)");
@@ -94,7 +104,7 @@ void volume_render_backward(const RaySampleBatch& samples, std::span<const float
       ray.blended_count = forward.blended_count[r];
       // ∂L/∂α goes into v_sigma first, then becomes ∂L/∂σ in place (no scratch).
       composite_ray_vjp(end - begin, forward.sample_alpha.data() + begin,
-                        rgb.data() + 3 * begin, ray, background, v_color.data() + 3 * r,
+                        rgb.data() + 3 * begin, ray, backgrounds.of(r), v_color.data() + 3 * r,
                         v_sigma.data() + begin, v_rgb.data() + 3 * begin);
       for (std::size_t i = begin; i < end; ++i)
         v_sigma[i] = density_to_alpha_vjp(sigma[i], samples.delta[i], v_sigma[i]);

@@ -24,6 +24,20 @@ struct RaySampleBatch {
   std::size_t sample_count() const { return t.size(); }
 };
 
+// The colour behind the rays: one for the whole batch, or one per ray ([R, 3], stride 3).
+// Training on images with transparency draws a random one per ray (nerf_trainer.cpp), so
+// that the only way to match a transparent pixel is to leave the ray empty. Converts from
+// the one colour, so a caller with one background passes it as before.
+struct RayBackgrounds {
+  const float* values;
+  std::size_t stride = 0;  // 0: every ray shows values[0..3); 3: ray r shows values[3r..3r+3)
+  std::size_t colors = 1;  // how many colours `values` holds
+  RayBackgrounds(const float* shared) : values(shared) {}  // NOLINT: the common case
+  explicit RayBackgrounds(std::span<const float> per_ray)
+      : values(per_ray.data()), stride(3), colors(per_ray.size() / 3) {}
+  const float* of(std::size_t ray) const { return values + stride * ray; }
+};
+
 // Forward results, and what the backward pass reuses (final_transmittance, blended_count,
 // sample_alpha).
 struct VolumeRenderResult {
@@ -39,17 +53,18 @@ struct VolumeRenderResult {
   void resize(std::size_t rays, std::size_t samples);
 };
 
-// sigma [S] (≥ 0), rgb [S, 3], background [3]. Throws ArgumentError on inconsistent sizes
-// or offsets (offsets[0] = 0, non-decreasing, offsets[R] = S).
+// sigma [S] (≥ 0), rgb [S, 3], backgrounds one or [R, 3]. Throws ArgumentError on
+// inconsistent sizes or offsets (offsets[0] = 0, non-decreasing, offsets[R] = S).
 void volume_render(const RaySampleBatch& samples, std::span<const float> sigma,
-                   std::span<const float> rgb, const float background[3],
+                   std::span<const float> rgb, RayBackgrounds backgrounds,
                    VolumeRenderResult& result);
 
-// Given v_color = ∂L/∂color [R, 3] for the `forward` result of the same inputs, writes
+// Given v_color = ∂L/∂color [R, 3] for the `forward` result of the same inputs (the same
+// backgrounds), writes
 // v_sigma [S] and v_rgb [S, 3] (overwritten, not accumulated; zero for samples past a ray's
 // early stop). No gradient to t or δ (the sample positions are constants).
 void volume_render_backward(const RaySampleBatch& samples, std::span<const float> sigma,
-                            std::span<const float> rgb, const float background[3],
+                            std::span<const float> rgb, RayBackgrounds backgrounds,
                             const VolumeRenderResult& forward, std::span<const float> v_color,
                             std::span<float> v_sigma, std::span<float> v_rgb);
 

@@ -55,6 +55,23 @@ FlatAdamSettings adam_settings(const NerfTrainingConfig& config) {
   return s;
 }
 
+// Coarse to fine (hash_level_warmup): level l of a hash encoding's L levels first trains at
+// iteration ⌊warmup·l/L⌋. Until then its table's gradient is zeroed, Adam's moments stay zero
+// and the table stays at its ±10⁻⁴ initialisation, adding next to nothing to the code: the
+// networks first fit what the coarse grids can hold, which the views agree on.
+void hold_untrained_levels(const NerfMlp& mlp, int iteration, int warmup, std::span<float> gradient) {
+  if (warmup <= 0 || !mlp.hash_layout()) return;
+  const HashGridLayout& layout = *mlp.hash_layout();
+  const std::size_t level_count = layout.levels().size(), features = std::size_t(layout.features());
+  for (std::size_t l = 0; l < level_count; ++l) {
+    const std::int64_t starts = std::int64_t(warmup) * std::int64_t(l) / std::int64_t(level_count);
+    if (iteration >= starts) continue;
+    const HashGridLayout::Level& level = layout.levels()[l];
+    const auto first = gradient.begin() + std::ptrdiff_t(mlp.layer_parameter_count() + level.offset);
+    std::fill(first, first + std::ptrdiff_t(level.entries * features), 0.0f);
+  }
+}
+
 }  // namespace
 
 NerfTrainer::NerfTrainer(const Dataset& dataset, const NerfTrainingConfig& config)
@@ -121,6 +138,7 @@ StepResult NerfTrainer::step() {
   const std::size_t batch = std::size_t(config_.rays_per_batch);
   rays_.resize(batch);
   targets_.resize(3 * batch);
+  if (config_.random_background) ray_backgrounds_.resize(3 * batch);
   // Pixels a view's mask leaves out are drawn again (a few times at most: a mask that keeps
   // almost nothing must not stall the step), so they are never trained on.
   constexpr int kMaxDraws = 16;
@@ -136,8 +154,22 @@ StepResult NerfTrainer::step() {
     const DatasetView& view = *drawn;
     rays_[r] = camera_ray(view.camera, float(x), float(y));
     for (int c = 0; c < 3; ++c) targets_[3 * r + c] = view.image.at(x, y, c);
+    if (!config_.random_background) continue;
+    float* background = &ray_backgrounds_[3 * r];
+    std::copy(config_.background, config_.background + 3, background);
+    if (view.alpha.empty()) continue;  // an opaque photo: no ray sees what is behind it
+    // The photo onto the ray's own colour: image + (1 − α)(new − old background).
+    const float transparency = 1.0f - view.alpha.at(x, y, 0);
+    for (int c = 0; c < 3; ++c) {
+      background[c] = uniform01(rng_);
+      targets_[3 * r + c] += transparency * (background[c] - config_.background[c]);
+    }
   }
-  renderer_.forward(model_, rays_, config_.background, /*jitter=*/true, rng_, forward_);
+  if (config_.random_background)
+    renderer_.forward(model_, rays_, RayBackgrounds(std::span<const float>(ray_backgrounds_)), /*jitter=*/true,
+                      rng_, forward_);
+  else
+    renderer_.forward(model_, rays_, config_.background, /*jitter=*/true, rng_, forward_);
   result.timings.forward = ms_since(start);
   ++sample_counts_.steps;
   sample_counts_.coarse += forward_.coarse_sample_count();
@@ -168,6 +200,8 @@ StepResult NerfTrainer::step() {
   coarse_grad_.assign(model_.coarse.parameter_count(), 0.0f);
   fine_grad_.assign(model_.fine.parameter_count(), 0.0f);
   renderer_.backward(model_, forward_, v_coarse_, v_fine_, coarse_grad_, fine_grad_);
+  hold_untrained_levels(model_.coarse, iteration, config_.hash_level_warmup, coarse_grad_);
+  hold_untrained_levels(model_.fine, iteration, config_.hash_level_warmup, fine_grad_);
   result.timings.backward = ms_since(start);
 
   start = Clock::now();

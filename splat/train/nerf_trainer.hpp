@@ -86,6 +86,7 @@ class NerfTrainer {
   NerfRenderer renderer_;
   NerfForwardContext forward_;  // the training batch's forward, and the scoring renders'
   std::vector<Ray> rays_;
+  std::vector<float> ray_backgrounds_;  // [R, 3] with random_background
   std::vector<float> targets_, v_coarse_, v_fine_, coarse_grad_, fine_grad_;
   // One per network: a context sized for the other network's shape is rebuilt from scratch,
   // and sharing one reallocated ~100 MB every grid update (8 % of a run in page faults).

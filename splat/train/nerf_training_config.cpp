@@ -15,6 +15,8 @@ void describe_settings(Table& t, NerfTrainingConfig& c) {
   t.number("iterations", c.iterations, kPositiveIterations);
   t.number("max_seconds", c.max_seconds, kSeconds);
   t.triple("background", c.background, kUnit);
+  t.flag("random_background", c.random_background);
+  t.number("hash_level_warmup", c.hash_level_warmup, kIterations);
   t.number("seed", c.seed, kSeed);
   t.number("rays_per_batch", c.rays_per_batch, {1, kMaxNerfRaysPerBatch});
   t.number("lr_init", c.lr_init, kLogScheduleRate);
@@ -72,6 +74,7 @@ NerfTrainingConfig nerf_training_preset(const std::string& method) {
   c.adam_beta2 = 0.99;
   c.adam_epsilon = 1e-15;
   c.parameter_average_decay = 0;
+  c.random_background = true;
   return c;
 }
 

@@ -109,6 +109,13 @@ TEST(DatasetFolders, BlenderCompositesStraightAlphaOntoTheBackground) {
     EXPECT_EQ(rgb.at(0, 0, c), options.background[c]);  // alpha 0
     EXPECT_EQ(rgb.at(1, 0, c), rgba.at(1, 0, c));        // alpha 1
   }
+  // The opacity is kept beside the composited colour (the NeRF trainer's random backgrounds).
+  const Image& alpha = d.train[1].alpha;
+  ASSERT_EQ(alpha.channels, 1);
+  ASSERT_EQ(alpha.width, 6);
+  ASSERT_EQ(alpha.height, 5);
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 6; ++x) EXPECT_EQ(alpha.at(x, y, 0), rgba.at(x, y, 3));
   // Camera centres at (0.5k, -0.25k, 4) for k = 0, 1: mean in between, 1.1 × half the gap.
   EXPECT_NEAR(d.scene_extent, 1.1f * 0.5f * std::sqrt(0.25f + 0.0625f), 1e-6f);
 }
@@ -120,6 +127,7 @@ TEST(DatasetFolders, BlenderRgbImagesAndValidationSplit) {
   ASSERT_EQ(d.test.size(), 2u);
   EXPECT_EQ(d.test[1].name, "t_1");
   EXPECT_EQ(d.test[1].image.data, read_image(dir / "test" / "t_1.png").data);
+  EXPECT_TRUE(d.test[1].alpha.empty());  // no alpha channel: nothing kept
   // A single training camera has no spread; the extent falls back to 1.
   EXPECT_EQ(d.scene_extent, 1.0f);
 }

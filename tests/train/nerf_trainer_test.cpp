@@ -152,5 +152,83 @@ TEST(NerfTrainer, AConfiguredBoxIsKeptAndOtherwiseTheDataPlacesIt) {
   }
 }
 
+// A small NGP: the preset's shape with tables of 2¹⁰ entries, few samples and rays.
+NerfTrainingConfig small_ngp_config() {
+  NerfTrainingConfig config = nerf_training_preset("ngp");
+  for (NerfMlpConfig* mlp : {&config.model.coarse, &config.model.fine}) {
+    mlp->hash.levels = 4;
+    mlp->hash.table_log2 = 10;
+    mlp->hash.max_resolution = 64;
+  }
+  config.model.coarse_samples = 16;
+  config.model.fine_samples = 8;
+  config.rays_per_batch = 64;
+  return config;
+}
+
+// Each hash level's table of the fine network, as floats.
+std::vector<std::vector<float>> fine_tables(const NerfModel& model) {
+  const NerfMlp& mlp = model.fine;
+  std::vector<std::vector<float>> tables;
+  for (const HashGridLayout::Level& level : mlp.hash_layout()->levels()) {
+    const auto first = mlp.parameters().begin() + std::ptrdiff_t(mlp.layer_parameter_count() + level.offset);
+    tables.emplace_back(first, first + std::ptrdiff_t(level.entries * std::size_t(mlp.hash_layout()->features())));
+  }
+  return tables;
+}
+
+TEST(NerfTrainer, HashLevelsTrainCoarseToFine) {
+  const Dataset dataset = small_dataset();
+  NerfTrainingConfig config = small_ngp_config();
+  config.background[0] = config.background[1] = config.background[2] = 0.0f;  // white views: a gradient
+  config.hash_level_warmup = 8;  // level l of 4 first trains at iteration 2l
+  NerfTrainer trainer(dataset, config);
+  const std::vector<std::vector<float>> initial = fine_tables(trainer.model());
+  const auto trained = [&] {
+    const std::vector<std::vector<float>> now = fine_tables(trainer.model());
+    std::vector<bool> changed;
+    for (std::size_t l = 0; l < now.size(); ++l) changed.push_back(now[l] != initial[l]);
+    return changed;
+  };
+  for (int i = 0; i < 3; ++i) trainer.step();
+  EXPECT_EQ(trained(), (std::vector<bool>{true, true, false, false}));  // levels from 0 and 2
+  for (int i = 0; i < 4; ++i) trainer.step();
+  EXPECT_EQ(trained(), (std::vector<bool>{true, true, true, true}));  // all by iteration 6
+}
+
+// Views with an alpha channel, all of it `alpha`: the image is white composited over white.
+Dataset transparent_dataset(float alpha) {
+  Dataset dataset = small_dataset();
+  for (DatasetView& view : dataset.train) view.alpha = Image(24, 24, 1, alpha);
+  return dataset;
+}
+
+TEST(NerfTrainer, RandomBackgroundsShowBehindTransparentPixelsOnly) {
+  // An empty field renders each ray's own background; through fully transparent pixels the
+  // target is the photo on that same colour, so the loss is zero: the render and the target
+  // take one colour per ray.
+  NerfTrainingConfig config = small_ngp_config();
+  ASSERT_TRUE(config.random_background);
+  config.density_bias_init = -30.0f;
+  const Dataset transparent = transparent_dataset(0.0f);
+  NerfTrainer empty(transparent, config);
+  EXPECT_LT(empty.step().loss, 1e-10);
+  // Photos without transparency train as they did without random backgrounds, bit for bit.
+  config.density_bias_init = -3.0f;
+  const Dataset opaque = small_dataset();
+  NerfTrainer with(opaque, config);
+  config.random_background = false;
+  NerfTrainer without(opaque, config);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(with.step().loss, without.step().loss);
+  EXPECT_TRUE(std::equal(with.model().fine.parameters().begin(), with.model().fine.parameters().end(),
+                         without.model().fine.parameters().begin()));
+  // Where the photos are transparent, the targets differ from the fixed background's.
+  config = small_ngp_config();
+  NerfTrainer random_target(transparent, config);
+  config.random_background = false;
+  NerfTrainer fixed_target(transparent, config);
+  EXPECT_NE(random_target.step().loss, fixed_target.step().loss);
+}
+
 }  // namespace
 }  // namespace splat
