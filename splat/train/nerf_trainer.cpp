@@ -55,23 +55,6 @@ FlatAdamSettings adam_settings(const NerfTrainingConfig& config) {
   return s;
 }
 
-// Coarse to fine (hash_level_warmup): level l of a hash encoding's L levels first trains at
-// iteration ⌊warmup·l/L⌋. Until then its table's gradient is zeroed, Adam's moments stay zero
-// and the table stays at its ±10⁻⁴ initialisation, adding next to nothing to the code: the
-// networks first fit what the coarse grids can hold, which the views agree on.
-void hold_untrained_levels(const NerfMlp& mlp, int iteration, int warmup, std::span<float> gradient) {
-  if (warmup <= 0 || !mlp.hash_layout()) return;
-  const HashGridLayout& layout = *mlp.hash_layout();
-  const std::size_t level_count = layout.levels().size(), features = std::size_t(layout.features());
-  for (std::size_t l = 0; l < level_count; ++l) {
-    const std::int64_t starts = std::int64_t(warmup) * std::int64_t(l) / std::int64_t(level_count);
-    if (iteration >= starts) continue;
-    const HashGridLayout::Level& level = layout.levels()[l];
-    const auto first = gradient.begin() + std::ptrdiff_t(mlp.layer_parameter_count() + level.offset);
-    std::fill(first, first + std::ptrdiff_t(level.entries * features), 0.0f);
-  }
-}
-
 }  // namespace
 
 NerfTrainer::NerfTrainer(const Dataset& dataset, const NerfTrainingConfig& config)
@@ -200,8 +183,6 @@ StepResult NerfTrainer::step() {
   coarse_grad_.assign(model_.coarse.parameter_count(), 0.0f);
   fine_grad_.assign(model_.fine.parameter_count(), 0.0f);
   renderer_.backward(model_, forward_, v_coarse_, v_fine_, coarse_grad_, fine_grad_);
-  hold_untrained_levels(model_.coarse, iteration, config_.hash_level_warmup, coarse_grad_);
-  hold_untrained_levels(model_.fine, iteration, config_.hash_level_warmup, fine_grad_);
   result.timings.backward = ms_since(start);
 
   start = Clock::now();

@@ -16,7 +16,6 @@ void describe_settings(Table& t, NerfTrainingConfig& c) {
   t.number("max_seconds", c.max_seconds, kSeconds);
   t.triple("background", c.background, kUnit);
   t.flag("random_background", c.random_background);
-  t.number("hash_level_warmup", c.hash_level_warmup, kIterations);
   t.number("seed", c.seed, kSeed);
   t.number("rays_per_batch", c.rays_per_batch, {1, kMaxNerfRaysPerBatch});
   t.number("lr_init", c.lr_init, kLogScheduleRate);

@@ -34,10 +34,6 @@ struct NerfTrainingConfig {
   // few training views a hash field learns one (few_views: 16.4 dB, a coloured haze). Photos
   // without transparency train as before; test views are scored on `background`.
   bool random_background = false;
-  // Hash encodings train coarse to fine: level l of L first trains at iteration
-  // ⌊hash_level_warmup·l/L⌋ (its table held at its initialisation until then); 0 = every
-  // level from the start.
-  int hash_level_warmup = 0;
   unsigned seed = 0;
   int rays_per_batch = 1024;
   // Exponential decay from lr_init to lr_final over lr_decay_iterations (then held), a

@@ -166,36 +166,6 @@ NerfTrainingConfig small_ngp_config() {
   return config;
 }
 
-// Each hash level's table of the fine network, as floats.
-std::vector<std::vector<float>> fine_tables(const NerfModel& model) {
-  const NerfMlp& mlp = model.fine;
-  std::vector<std::vector<float>> tables;
-  for (const HashGridLayout::Level& level : mlp.hash_layout()->levels()) {
-    const auto first = mlp.parameters().begin() + std::ptrdiff_t(mlp.layer_parameter_count() + level.offset);
-    tables.emplace_back(first, first + std::ptrdiff_t(level.entries * std::size_t(mlp.hash_layout()->features())));
-  }
-  return tables;
-}
-
-TEST(NerfTrainer, HashLevelsTrainCoarseToFine) {
-  const Dataset dataset = small_dataset();
-  NerfTrainingConfig config = small_ngp_config();
-  config.background[0] = config.background[1] = config.background[2] = 0.0f;  // white views: a gradient
-  config.hash_level_warmup = 8;  // level l of 4 first trains at iteration 2l
-  NerfTrainer trainer(dataset, config);
-  const std::vector<std::vector<float>> initial = fine_tables(trainer.model());
-  const auto trained = [&] {
-    const std::vector<std::vector<float>> now = fine_tables(trainer.model());
-    std::vector<bool> changed;
-    for (std::size_t l = 0; l < now.size(); ++l) changed.push_back(now[l] != initial[l]);
-    return changed;
-  };
-  for (int i = 0; i < 3; ++i) trainer.step();
-  EXPECT_EQ(trained(), (std::vector<bool>{true, true, false, false}));  // levels from 0 and 2
-  for (int i = 0; i < 4; ++i) trainer.step();
-  EXPECT_EQ(trained(), (std::vector<bool>{true, true, true, true}));  // all by iteration 6
-}
-
 // Views with an alpha channel, all of it `alpha`: the image is white composited over white.
 Dataset transparent_dataset(float alpha) {
   Dataset dataset = small_dataset();
