@@ -60,9 +60,8 @@ void volume_render(const RaySampleBatch& samples, std::span<const float> sigma,
                    VolumeRenderResult& result);
 
 // Given v_color = ∂L/∂color [R, 3] for the `forward` result of the same inputs (the same
-// backgrounds), writes
-// v_sigma [S] and v_rgb [S, 3] (overwritten, not accumulated; zero for samples past a ray's
-// early stop). No gradient to t or δ (the sample positions are constants).
+// backgrounds), writes v_sigma [S] and v_rgb [S, 3] (overwritten, not accumulated; zero for
+// samples past a ray's early stop). No gradient to t or δ (the sample positions are constants).
 void volume_render_backward(const RaySampleBatch& samples, std::span<const float> sigma,
                             std::span<const float> rgb, RayBackgrounds backgrounds,
                             const VolumeRenderResult& forward, std::span<const float> v_color,
