@@ -145,6 +145,9 @@ void fill_batch(const ProjectedGaussians& projected, const TileBins& bins, std::
 
 // Blends chunk `chunk`'s entries of the batch into its state. Returns false once every pixel
 // of the chunk has finished (the rest of the list cannot change it).
+// The entries go kAlphaGroup at a time: first their α, then their compositing in list order
+// (a short chain through T, carried from entry to entry).
+
 template <BlendPass kPass>
 bool blend_chunk(int chunk, int x0, int y0, int width, int height, TileBatch& batch,
                  TileState& state, BlendWorkCounts* counts) {
@@ -154,28 +157,42 @@ bool blend_chunk(int chunk, int x0, int y0, int width, int height, TileBatch& ba
   CompositeAccum<f32v> accum = state.accum[chunk];
   i32v finished = state.finished[chunk];
   i32v last_blended = state.last_blended[chunk];
-  for (std::uint64_t todo = batch.entries[chunk]; todo != 0; todo &= todo - 1) {
-    const int j = __builtin_ctzll(todo);
-    const Splat2D& s = *batch.splat[j];
-    const SplatColumn splat_column(s, x0, column);
-    const float dy = s.mean_y - y;
-    const f32v power = splat_column.power(dy, s.conic_c * dy * dy);
-    const f32v alpha = alpha_of(simd::broadcast(s.opacity), power);
-    const i32v passes = draws(power, alpha);
-    const i32v live = ~finished;
-    if constexpr (kCount) {
-      const f32v lane_x = lane_index() + float(x0 + column * kLanes);
-      if (simd::any(passes & (lane_x < float(width)) & (i32v{} - int(y0 + row < height))))
-        batch.reaches[j] = true;
-      if (simd::any(live)) counts->pixel_evaluations += kLanes;
-      counts->passing_evaluations += simd::count(live & passes);
+  for (std::uint64_t todo = batch.entries[chunk]; todo != 0;) {
+    int group[kAlphaGroup];
+    f32v alpha[kAlphaGroup];
+    i32v passes[kAlphaGroup];
+    int size = 0;
+    for (; size < kAlphaGroup && todo != 0; ++size, todo &= todo - 1) {
+      const int j = __builtin_ctzll(todo);
+      const Splat2D& s = *batch.splat[j];
+      const SplatColumn splat_column(s, x0, column);
+      const float dy = s.mean_y - y;
+      const f32v power = splat_column.power(dy, s.conic_c * dy * dy);
+      group[size] = j;
+      alpha[size] = alpha_of(simd::broadcast(s.opacity), power);
+      passes[size] = draws(power, alpha[size]);
     }
-    const i32v blended = composite_step(accum, live & passes, alpha, simd::broadcast(s.color[0]),
-                                        simd::broadcast(s.color[1]), simd::broadcast(s.color[2]),
-                                        simd::broadcast(s.depth), finished);
-    last_blended = blended ? (i32v{} + batch.position[j]) : last_blended;
-    if constexpr (kPass == BlendPass::kRecord) batch.blended_chunks[j] |= std::uint32_t(simd::any(blended)) << chunk;
-    if (!kCount && !simd::any(~finished)) break;
+    for (int g = 0; g < size; ++g) {
+      const int j = group[g];
+      const Splat2D& s = *batch.splat[j];
+      const i32v live = ~finished;
+      if constexpr (kCount) {
+        const f32v lane_x = lane_index() + float(x0 + column * kLanes);
+        if (simd::any(passes[g] & (lane_x < float(width)) & (i32v{} - int(y0 + row < height))))
+          batch.reaches[j] = true;
+        if (simd::any(live)) counts->pixel_evaluations += kLanes;
+        counts->passing_evaluations += simd::count(live & passes[g]);
+      }
+      const i32v blended = composite_step(accum, live & passes[g], alpha[g], simd::broadcast(s.color[0]),
+                                          simd::broadcast(s.color[1]), simd::broadcast(s.color[2]),
+                                          simd::broadcast(s.depth), finished);
+      last_blended = blended ? (i32v{} + batch.position[j]) : last_blended;
+      if constexpr (kPass == BlendPass::kRecord) batch.blended_chunks[j] |= std::uint32_t(simd::any(blended)) << chunk;
+      if (!kCount && !simd::any(~finished)) {
+        todo = 0;
+        break;
+      }
+    }
   }
   state.accum[chunk] = accum;
   state.finished[chunk] = finished;

