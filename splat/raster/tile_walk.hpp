@@ -52,6 +52,7 @@ inline Footprint footprint_in_tile(const Splat2D& s, int x0, int y0) {
 struct SplatColumn {
   f32v dx, a_dx, b_dx;
 
+  SplatColumn() = default;
   SplatColumn(const Splat2D& s, int x0, int column) {
     dx = s.mean_x - (lane_index() + float(x0 + column * kLanes));
     a_dx = s.conic_a * dx;
