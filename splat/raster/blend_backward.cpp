@@ -41,6 +41,29 @@ struct GradAccum {
   }
 };
 
+// The exponent's cotangent v_power summed over one chunk column's rows, plain and times dy and
+// dy², lane-wise. Within a column dx is the same in every row, so the five 2D gradients
+// (∂power/∂mean and ∂power/∂conic, each a product of v_power with dx², dx·dy, dy², dx or dy)
+// are these three sums times column constants: three additions per pixel instead of five
+// products and sums, the constants applied once per column (add_to).
+struct PowerSums {
+  f32v plain{}, dy{}, dy2{};
+
+  void add(f32v v_power, float row_dy) {
+    plain += v_power;
+    dy += v_power * row_dy;
+    dy2 += v_power * (row_dy * row_dy);
+  }
+  // power = −½(a dx² + c dy²) − b dx dy with dx = mean_x − px, dy = mean_y − py.
+  void add_to(GradAccum& acc, const Splat2D& s, const SplatColumn& column) const {
+    acc.mean_x -= column.a_dx * plain + s.conic_b * dy;
+    acc.mean_y -= s.conic_c * dy + column.b_dx * plain;
+    acc.conic_a -= (0.5f * column.dx * column.dx) * plain;
+    acc.conic_b -= column.dx * dy;
+    acc.conic_c -= 0.5f * dy2;
+  }
+};
+
 // Loads the tile's per-pixel forward results and cotangents. Returns the largest
 // contributor count in the tile (how far back the walk starts).
 int load_tile(int x0, int y0, const float background[3], const RenderResult& forward,
@@ -97,61 +120,57 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
     GradAccum acc;
     bool blended_any = false;
     // The chunks where the forward pass blended this entry (elsewhere it has no gradient),
-    // column by column, rows in order: the order the sums were always taken in.
+    // column by column, rows in order: a fixed order, so the sums do not depend on threads.
     if (const std::uint32_t chunks = entry_chunks[position]; chunks != 0) {
       const f32v opacity = simd::broadcast(s.opacity);
       const f32v red = simd::broadcast(s.color[0]), green = simd::broadcast(s.color[1]),
                  blue = simd::broadcast(s.color[2]);
       static_assert(kChunksPerRow == 2, "the chunks of a column are every other bit");
       const SplatColumn columns[kChunksPerRow] = {SplatColumn(s, x0, 0), SplatColumn(s, x0, 1)};
-      int order[kChunksPerTile];
-      int count = 0;
-      for (int c = 0; c < kChunksPerRow; ++c)
+      for (int c = 0; c < kChunksPerRow; ++c) {
+        const SplatColumn& column = columns[c];
+        int order[kTileSize];
+        int count = 0;
         for (std::uint32_t todo = chunks & (0x55555555u << c); todo != 0; todo &= todo - 1)
           order[count++] = __builtin_ctz(todo);
-      // A group of chunks at a time: first their α (each a long chain of operations, but
-      // independent of the others, so they overlap), then their reverse steps and sums.
-      for (int first = 0; first < count; first += kAlphaGroup) {
-        const int size = std::min(kAlphaGroup, count - first);
-        f32v gaussian[kAlphaGroup], raw_alpha[kAlphaGroup], alpha[kAlphaGroup];
-        i32v blended[kAlphaGroup];
-        for (int g = 0; g < size; ++g) {
-          const int chunk = order[first + g];
-          const SplatColumn& column = columns[chunk % kChunksPerRow];
-          const float dy = s.mean_y - float(y0 + chunk / kChunksPerRow);
-          const f32v power = column.power(dy, s.conic_c * dy * dy);
-          const SplatAlpha a(opacity, power);
-          gaussian[g] = a.gaussian;
-          raw_alpha[g] = a.raw;
-          alpha[g] = a.alpha;
-          // Lanes whose list reaches entry k (contributor_count counts entries 1-based).
-          blended[g] = (state.contributor_count[chunk] > k) & draws(power, a.alpha);
+        if (count == 0) continue;
+        PowerSums power_sums;
+        // A group of chunks at a time: first their α (each a long chain of operations, but
+        // independent of the others, so they overlap), then their reverse steps and sums.
+        for (int first = 0; first < count; first += kAlphaGroup) {
+          const int size = std::min(kAlphaGroup, count - first);
+          f32v gaussian[kAlphaGroup], raw_alpha[kAlphaGroup], alpha[kAlphaGroup];
+          i32v blended[kAlphaGroup];
+          for (int g = 0; g < size; ++g) {
+            const int chunk = order[first + g];
+            const float dy = s.mean_y - float(y0 + chunk / kChunksPerRow);
+            const f32v power = column.power(dy, s.conic_c * dy * dy);
+            const SplatAlpha a(opacity, power);
+            gaussian[g] = a.gaussian;
+            raw_alpha[g] = a.raw;
+            alpha[g] = a.alpha;
+            // Lanes whose list reaches entry k (contributor_count counts entries 1-based).
+            blended[g] = (state.contributor_count[chunk] > k) & draws(power, a.alpha);
+          }
+          for (int g = 0; g < size; ++g) {
+            if (!simd::any(blended[g])) continue;
+            blended_any = true;
+            const int chunk = order[first + g];
+            const float dy = s.mean_y - float(y0 + chunk / kChunksPerRow);
+            f32v v_alpha, v_rgb[3];
+            acc.weight += composite_step_vjp(state.reverse[chunk], blended[g], alpha[g], red, green, blue,
+                               state.v_pixel[chunk], state.final_transmittance[chunk],
+                               state.background_dot_v[chunk], v_alpha, v_rgb);
+            for (int ch = 0; ch < 3; ++ch) acc.color[ch] += v_rgb[ch];
+            // α = min(kMaxAlpha, o·G): where the clamp holds, α does not depend on o or G
+            // (unless the caller asked for the reference rasterizer's straight-through).
+            if (zero_clamped_alpha_gradient) v_alpha = raw_alpha[g] > kMaxAlpha ? f32v{} : v_alpha;
+            acc.opacity += gaussian[g] * v_alpha;
+            // G = exp(power): ∂G/∂power = G, so v_power = o G v_α.
+            power_sums.add(raw_alpha[g] * v_alpha, dy);
+          }
         }
-        for (int g = 0; g < size; ++g) {
-          if (!simd::any(blended[g])) continue;
-          blended_any = true;
-          const int chunk = order[first + g];
-          const SplatColumn& column = columns[chunk % kChunksPerRow];
-          const float dy = s.mean_y - float(y0 + chunk / kChunksPerRow);
-          const f32v dx = column.dx;
-          f32v v_alpha, v_rgb[3];
-          acc.weight += composite_step_vjp(state.reverse[chunk], blended[g], alpha[g], red, green, blue,
-                             state.v_pixel[chunk], state.final_transmittance[chunk],
-                             state.background_dot_v[chunk], v_alpha, v_rgb);
-          for (int ch = 0; ch < 3; ++ch) acc.color[ch] += v_rgb[ch];
-          // α = min(kMaxAlpha, o·G): where the clamp holds, α does not depend on o or G
-          // (unless the caller asked for the reference rasterizer's straight-through).
-          if (zero_clamped_alpha_gradient) v_alpha = raw_alpha[g] > kMaxAlpha ? f32v{} : v_alpha;
-          acc.opacity += gaussian[g] * v_alpha;
-          // G = exp(power): ∂G/∂power = G, so v_power = o G v_α.
-          const f32v v_power = raw_alpha[g] * v_alpha;
-          // power = −½(a dx² + c dy²) − b dx dy with dx = mean_x − px, dy = mean_y − py.
-          acc.mean_x -= v_power * (column.a_dx + s.conic_b * dy);
-          acc.mean_y -= v_power * (s.conic_c * dy + column.b_dx);
-          acc.conic_a -= 0.5f * v_power * dx * dx;
-          acc.conic_b -= v_power * dx * dy;
-          acc.conic_c -= (0.5f * dy * dy) * v_power;
-        }
+        power_sums.add_to(acc, s, column);
       }
     }
     // Sums of nothing are +0, as the reduction of untouched accumulators would give.
