@@ -200,33 +200,32 @@ inline f32v reduce_add_each(const f32v v[kLanes]) {
   return sum;
 }
 
-// e^x for x <= 0, flushing to 0 below -87: relative error below 1.3e-7 (about an ulp) for
-// x >= -5.6, where an α can pass 1/255, and below 3e-7 to -87 (measured against double exp
-// at every float). Range reduction x = n ln2 + r, |r| <= ln2/2, in one fused multiply-add,
-// then a degree-6 minimax polynomial for e^r, times 2^n. Deterministic on every machine (no
-// libm call), which keeps renders identical across platforms and thread counts.
-// The blend waits on this chain at every pixel-Gaussian pair, so it is kept short: the
-// polynomial by Estrin's scheme (four dependent steps after r, not seven by Horner's) and
-// the reduction in one step, not Cody-Waite's two (the blend 9 % faster on a trained
-// capture; the error above is Horner's and two steps' 8.5e-8 otherwise).
-inline f32v exp_nonpositive(f32v x) {
-  constexpr float kLog2e = 1.44269504088896341f;
-  constexpr float kLn2 = 0.693147180559945309f;
-  x = max(x, broadcast(-87.0f));
-  // n = round(x log2e), as the truncation of x log2e − 0.5 (x <= 0).
+// 2^x for x <= 0, flushing toward 0 below -126. The rasterizer's α is o·2^(power·log2 e):
+// log2 e is folded into the exponent's coefficients once per splat, so the range reduction
+// is exact (x = n + f, n = round(x), f = x − n in [−½, ½] without rounding) and one step
+// shorter than e^x's (which must round x·log2 e, then subtract n·ln 2). The blend waits on
+// this chain at every pixel-Gaussian pair, so it is kept short: a degree-6 minimax polynomial
+// for 2^f by Estrin's scheme (three dependent steps after f), times 2^n. Relative error below
+// 1.71e-7, 1.5 ulp (measured against double exp2 at every float from 0 to −126).
+// Deterministic on every machine (no libm call), which keeps renders identical across
+// platforms and thread counts.
+inline f32v exp2_nonpositive(f32v x) {
+  x = max(x, broadcast(-126.0f));
 #if defined(__AVX512VL__)
-  const f32v n = reinterpret_cast<f32v>(_mm256_roundscale_ps(reinterpret_cast<__m256>(x * kLog2e - 0.5f),
-                                                             _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC));
+  const f32v n = reinterpret_cast<f32v>(_mm256_roundscale_ps(reinterpret_cast<__m256>(x),
+                                                             _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC));
 #else
-  const f32v n = __builtin_convertvector(__builtin_convertvector(x * kLog2e - 0.5f, i32v), f32v);
+  // round(x) as the truncation of x − ½ (x <= 0): f lands in (−½, ½].
+  const f32v n = __builtin_convertvector(__builtin_convertvector(x - 0.5f, i32v), f32v);
 #endif
-  const f32v r = x - n * kLn2;
-  // e^r ≈ 1 + r + r²(c0 + c1 r + c2 r² + c3 r³ + c4 r⁴ + c5 r⁵), the cᵢ taken in pairs.
-  const f32v r2 = r * r;
-  const f32v c01 = r * 1.6666665459e-1f + 5.0000001201e-1f;
-  const f32v c23 = r * 8.3334519073e-3f + 4.1665795894e-2f;
-  const f32v c45 = r * 1.9875691500e-4f + 1.3981999507e-3f;
-  const f32v p = ((c45 * r2 + c23) * r2 + c01) * r2 + (r + 1.0f);
+  const f32v f = x - n;
+  // 2^f ≈ (c0 + c1 f) + f²(c2 + c3 f) + f⁴(c4 + c5 f + c6 f²).
+  const f32v f2 = f * f;
+  const f32v low = f * 6.9314720574e-1f + 1.0000000006f;
+  const f32v mid = f * 5.5503287770e-2f + 2.4022646891e-1f;
+  const f32v high = f * 1.3399931203e-3f + 9.6184889525e-3f;
+  const f32v f4 = f2 * f2;
+  const f32v p = (f2 * 1.5345813165e-4f + high) * f4 + (mid * f2 + low);
   // p · 2ⁿ: one instruction where AVX-512 has it, else 2ⁿ built in the exponent bits (the
   // same single rounding either way).
 #if defined(__AVX512VL__)

@@ -101,9 +101,9 @@ struct TileBatch {
   std::uint32_t blended_chunks[kBatch];     // per entry: the chunks where it blended a pixel
   std::uint64_t entries[kChunksPerTile];    // per chunk: the entries that may draw in it
   bool reaches[kBatch];                     // (counting only) draws in some pixel
-  // Per entry, the splat seen from each chunk column: taken once here rather than at every
-  // row, it shortens the chain of operations each α waits on.
-  SplatColumn column[kBatch][kChunksPerRow];
+  // Per entry, the exponent's terms of each chunk column: taken once here rather than at
+  // every row, it shortens the chain of operations each α waits on.
+  ColumnExponent column[kBatch][kChunksPerRow];
 };
 
 // The chunks of one splat: bit (row · kChunksPerRow + column) for each row and chunk column
@@ -132,7 +132,7 @@ void fill_batch(const ProjectedGaussians& projected, const TileBins& bins, std::
     batch.position[j] = std::int32_t(k + j - list_begin + 1);
     batch.chunks[j] = chunks_to_walk(s, x0, y0) & live;
     batch.blended_chunks[j] = 0;
-    for (int c = 0; c < kChunksPerRow; ++c) batch.column[j][c] = SplatColumn(s, x0, c);
+    for (int c = 0; c < kChunksPerRow; ++c) batch.column[j][c] = ColumnExponent(s, column_dx(s, x0, c));
   }
   for (int j = batch.size; j < (batch.size + kLanes - 1) / kLanes * kLanes; ++j) batch.chunks[j] = 0;
   std::fill(std::begin(batch.entries), std::end(batch.entries), 0);
@@ -170,10 +170,10 @@ bool blend_chunk(int chunk, int x0, int y0, int width, int height, TileBatch& ba
       const int j = __builtin_ctzll(todo);
       const Splat2D& s = *batch.splat[j];
       const float dy = s.mean_y - y;
-      const f32v power = batch.column[j][column].power(dy, s.conic_c * dy * dy);
+      const f32v exponent2 = batch.column[j][column].at(dy, ColumnExponent::row_term(s, dy));
       group[size] = j;
-      alpha[size] = alpha_of(simd::broadcast(s.opacity), power);
-      passes[size] = draws(power, alpha[size]);
+      alpha[size] = alpha_of(simd::broadcast(s.opacity), exponent2);
+      passes[size] = draws(exponent2, alpha[size]);
     }
     for (int g = 0; g < size; ++g) {
       const int j = group[g];

@@ -126,9 +126,9 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
       const f32v red = simd::broadcast(s.color[0]), green = simd::broadcast(s.color[1]),
                  blue = simd::broadcast(s.color[2]);
       static_assert(kChunksPerRow == 2, "the chunks of a column are every other bit");
-      const SplatColumn columns[kChunksPerRow] = {SplatColumn(s, x0, 0), SplatColumn(s, x0, 1)};
       for (int c = 0; c < kChunksPerRow; ++c) {
-        const SplatColumn& column = columns[c];
+        const SplatColumn column(s, x0, c);
+        const ColumnExponent exponent(s, column.dx);
         int order[kTileSize];
         int count = 0;
         for (std::uint32_t todo = chunks & (0x55555555u << c); todo != 0; todo &= todo - 1)
@@ -144,13 +144,13 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
           for (int g = 0; g < size; ++g) {
             const int chunk = order[first + g];
             const float dy = s.mean_y - float(y0 + chunk / kChunksPerRow);
-            const f32v power = column.power(dy, s.conic_c * dy * dy);
-            const SplatAlpha a(opacity, power);
+            const f32v exponent2 = exponent.at(dy, ColumnExponent::row_term(s, dy));
+            const SplatAlpha a(opacity, exponent2);
             gaussian[g] = a.gaussian;
             raw_alpha[g] = a.raw;
             alpha[g] = a.alpha;
             // Lanes whose list reaches entry k (contributor_count counts entries 1-based).
-            blended[g] = (state.contributor_count[chunk] > k) & draws(power, a.alpha);
+            blended[g] = (state.contributor_count[chunk] > k) & draws(exponent2, a.alpha);
           }
           for (int g = 0; g < size; ++g) {
             if (!simd::any(blended[g])) continue;

@@ -47,34 +47,48 @@ inline Footprint footprint_in_tile(const Splat2D& s, int x0, int y0) {
   return {row_lo, row_hi, (col_lo - x0) / kLanes, (col_hi - x0) / kLanes};
 }
 
-// The splat seen from one chunk column: dx = mean_x − pixel x per lane, and the terms of the
-// exponent that depend on dx alone, so each row costs little more than the exp.
+// dx = mean_x − pixel x of each lane of chunk column `column` of the tile at x0 (d = splat
+// centre − pixel centre, as in the reference rasterizer).
+inline f32v column_dx(const Splat2D& s, int x0, int column) {
+  return s.mean_x - (lane_index() + float(x0 + column * kLanes));
+}
+
+// The α's exponent power = −½(a dx² + c dy²) − b dx dy, taken in base 2 (power·log2 e, for
+// simd::exp2_nonpositive) and split by what it depends on: the terms of dx alone are taken
+// once per chunk column, so each row costs one addition and one multiply-add before the exp.
+constexpr float kLog2e = 1.44269504088896341f;
+
+struct ColumnExponent {
+  f32v base, slope;  // −½ log2e · a dx², −log2e · b dx
+
+  ColumnExponent() = default;
+  ColumnExponent(const Splat2D& s, f32v dx) : base((-0.5f * kLog2e * s.conic_a) * dx * dx), slope((-kLog2e * s.conic_b) * dx) {}
+
+  // The row's term −½ log2e · c dy², dy = mean_y − pixel y.
+  static float row_term(const Splat2D& s, float dy) { return (-0.5f * kLog2e * s.conic_c) * dy * dy; }
+  // power·log2 e at row offset dy, given its row_term.
+  f32v at(float dy, float row_term) const { return (base + row_term) + slope * dy; }
+};
+
+// The column's terms of the exponent's gradients (the backward's), taken once per column.
 struct SplatColumn {
   f32v dx, a_dx, b_dx;
 
-  SplatColumn() = default;
-  SplatColumn(const Splat2D& s, int x0, int column) {
-    dx = s.mean_x - (lane_index() + float(x0 + column * kLanes));
-    a_dx = s.conic_a * dx;
-    b_dx = s.conic_b * dx;
-  }
-
-  // The exponent −½(a dx² + c dy²) − b dx dy at row offset dy = mean_y − y, given
-  // row_term = c dy²; d = splat centre − pixel centre, as in the reference rasterizer.
-  f32v power(float dy, float row_term) const { return -0.5f * (a_dx * dx + row_term) - b_dx * dy; }
+  SplatColumn(const Splat2D& s, int x0, int column) : dx(column_dx(s, x0, column)), a_dx(s.conic_a * dx), b_dx(s.conic_b * dx) {}
 };
 
-// α = min(kMaxAlpha, o·G) with G = exp(power), and the intermediates its backward needs.
+// α = min(kMaxAlpha, o·G) with G = exp(power) = 2^exponent2, and the intermediates its
+// backward needs.
 struct SplatAlpha {
   f32v gaussian, raw, alpha;  // G, o·G, the clamped α
 
-  SplatAlpha(f32v opacity, f32v power)
-      : gaussian(simd::exp_nonpositive(power)),
+  SplatAlpha(f32v opacity, f32v exponent2)
+      : gaussian(simd::exp2_nonpositive(exponent2)),
         raw(opacity * gaussian),
         alpha(simd::min(simd::broadcast(kMaxAlpha), raw)) {}
 };
 
-inline f32v alpha_of(f32v opacity, f32v power) { return SplatAlpha(opacity, power).alpha; }
+inline f32v alpha_of(f32v opacity, f32v exponent2) { return SplatAlpha(opacity, exponent2).alpha; }
 
 // The walks take α for kAlphaGroup list entries (forward) or chunks (backward) at a time, then
 // use them in order. Each α is a chain of some twenty dependent operations (the exponent,
@@ -83,8 +97,9 @@ inline f32v alpha_of(f32v opacity, f32v power) { return SplatAlpha(opacity, powe
 // (the forward blend 8 % faster on a trained real capture, bit for bit the same).
 constexpr int kAlphaGroup = 8;
 
-// Lanes that draw: α ≥ kMinAlpha with the exponent not positive (as the reference tests).
-inline i32v draws(f32v power, f32v alpha) { return (power <= 0.0f) & (alpha >= kMinAlpha); }
+// Lanes that draw: α ≥ kMinAlpha with the exponent not positive (as the reference tests; the
+// base-2 exponent has the sign of power).
+inline i32v draws(f32v exponent2, f32v alpha) { return (exponent2 <= 0.0f) & (alpha >= kMinAlpha); }
 
 // The rows of `box` in which chunk `column` of the tile at (x0, y0) may draw, as a bit mask
 // (bit r for row y0 + r). Every row of the tile is tested at once, one per lane.

@@ -33,8 +33,8 @@ void render_random(Frame& f, unsigned seed, int width, int height, int count) {
 // Whether any pixel centre of chunk `column` in row y draws, by the blend's own arithmetic.
 bool chunk_draws(const Splat2D& s, int x0, int column, int y) {
   const float dy = s.mean_y - float(y);
-  const f32v power = SplatColumn(s, x0, column).power(dy, s.conic_c * dy * dy);
-  return simd::any(draws(power, alpha_of(simd::broadcast(s.opacity), power)));
+  const f32v exponent2 = ColumnExponent(s, column_dx(s, x0, column)).at(dy, ColumnExponent::row_term(s, dy));
+  return simd::any(draws(exponent2, alpha_of(simd::broadcast(s.opacity), exponent2)));
 }
 
 TEST(TileWalk, RowsLeftOutNeverHoldAPixelThatDraws) {
