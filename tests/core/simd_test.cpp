@@ -2,9 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -64,15 +64,13 @@ TEST(Simd, ReduceAddEachSumsInReduceAddsOrder) {
 // The largest relative error of exp2_nonpositive against double exp2 over every `stride`th
 // float in [lo, hi] (lo < hi <= 0; a negative float's magnitude grows with its bit pattern).
 double exp2_worst_error(float hi, float lo, std::uint32_t stride) {
-  std::uint32_t first, last;
-  std::memcpy(&first, &hi, sizeof(first));
-  std::memcpy(&last, &lo, sizeof(last));
+  const auto first = std::bit_cast<std::uint32_t>(hi), last = std::bit_cast<std::uint32_t>(lo);
   double worst = 0;
   for (std::uint32_t bits = first; bits <= last; bits += stride * kLanes) {
     f32v x;
     for (int l = 0; l < kLanes; ++l) {
       const std::uint32_t lane_bits = std::min(bits + stride * std::uint32_t(l), last);
-      std::memcpy(&x[l], &lane_bits, sizeof(float));
+      x[l] = std::bit_cast<float>(lane_bits);
     }
     const f32v y = simd::exp2_nonpositive(x);
     for (int l = 0; l < kLanes; ++l) {
