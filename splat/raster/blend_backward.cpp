@@ -119,59 +119,58 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
     const Splat2D& s = projected.splats[bins.gaussian_ids[position]];
     GradAccum acc;
     bool blended_any = false;
-    // The chunks where the forward pass blended this entry (elsewhere it has no gradient),
-    // column by column, rows in order: a fixed order, so the sums do not depend on threads.
+    // The chunks where the forward pass blended this entry (elsewhere it has no gradient), in
+    // row order, both chunk columns together: a fixed order, so the sums do not depend on
+    // threads, and as many independent α as the entry has chunks to overlap their chains.
     if (const std::uint32_t chunks = entry_chunks[position]; chunks != 0) {
       const f32v opacity = simd::broadcast(s.opacity);
       const f32v red = simd::broadcast(s.color[0]), green = simd::broadcast(s.color[1]),
                  blue = simd::broadcast(s.color[2]);
-      static_assert(kChunksPerRow == 2, "the chunks of a column are every other bit");
-      for (int c = 0; c < kChunksPerRow; ++c) {
-        const SplatColumn column(s, x0, c);
-        const ColumnExponent exponent(s, column.dx);
-        int order[kTileSize];
-        int count = 0;
-        for (std::uint32_t todo = chunks & (0x55555555u << c); todo != 0; todo &= todo - 1)
-          order[count++] = __builtin_ctz(todo);
-        if (count == 0) continue;
-        PowerSums power_sums;
-        // A group of chunks at a time: first their α (each a long chain of operations, but
-        // independent of the others, so they overlap), then their reverse steps and sums.
-        for (int first = 0; first < count; first += kAlphaGroup) {
-          const int size = std::min(kAlphaGroup, count - first);
-          f32v gaussian[kAlphaGroup], raw_alpha[kAlphaGroup], alpha[kAlphaGroup];
-          i32v blended[kAlphaGroup];
-          for (int g = 0; g < size; ++g) {
-            const int chunk = order[first + g];
-            const float dy = s.mean_y - float(y0 + chunk / kChunksPerRow);
-            const f32v exponent2 = exponent.at(dy, ColumnExponent::row_term(s, dy));
-            const SplatAlpha a(opacity, exponent2);
-            gaussian[g] = a.gaussian;
-            raw_alpha[g] = a.raw;
-            alpha[g] = a.alpha;
-            // Lanes whose list reaches entry k (contributor_count counts entries 1-based).
-            blended[g] = (state.contributor_count[chunk] > k) & draws(exponent2, a.alpha);
-          }
-          for (int g = 0; g < size; ++g) {
-            if (!simd::any(blended[g])) continue;
-            blended_any = true;
-            const int chunk = order[first + g];
-            const float dy = s.mean_y - float(y0 + chunk / kChunksPerRow);
-            f32v v_alpha, v_rgb[3];
-            acc.weight += composite_step_vjp(state.reverse[chunk], blended[g], alpha[g], red, green, blue,
-                               state.v_pixel[chunk], state.final_transmittance[chunk],
-                               state.background_dot_v[chunk], v_alpha, v_rgb);
-            for (int ch = 0; ch < 3; ++ch) acc.color[ch] += v_rgb[ch];
-            // α = min(kMaxAlpha, o·G): where the clamp holds, α does not depend on o or G
-            // (unless the caller asked for the reference rasterizer's straight-through).
-            if (zero_clamped_alpha_gradient) v_alpha = raw_alpha[g] > kMaxAlpha ? f32v{} : v_alpha;
-            acc.opacity += gaussian[g] * v_alpha;
-            // G = exp(power): ∂G/∂power = G, so v_power = o G v_α.
-            power_sums.add(raw_alpha[g] * v_alpha, dy);
-          }
+      static_assert(kChunksPerRow == 2, "a chunk's column is its lowest bit");
+      const SplatColumn column[kChunksPerRow] = {SplatColumn(s, x0, 0), SplatColumn(s, x0, 1)};
+      const ColumnExponent exponent[kChunksPerRow] = {ColumnExponent(s, column[0].dx),
+                                                      ColumnExponent(s, column[1].dx)};
+      constexpr int kGroup = 16;
+      PowerSums power_sums[kChunksPerRow];
+      int order[kChunksPerTile];
+      int count = 0;
+      for (std::uint32_t todo = chunks; todo != 0; todo &= todo - 1) order[count++] = __builtin_ctz(todo);
+      // A group of chunks at a time: first their α (each a long chain of operations, but
+      // independent of the others, so they overlap), then their reverse steps and sums.
+      for (int first = 0; first < count; first += kGroup) {
+        const int size = std::min(kGroup, count - first);
+        f32v gaussian[kGroup], raw_alpha[kGroup], alpha[kGroup];
+        i32v blended[kGroup];
+        for (int g = 0; g < size; ++g) {
+          const int chunk = order[first + g];
+          const float dy = s.mean_y - float(y0 + chunk / kChunksPerRow);
+          const f32v exponent2 = exponent[chunk % kChunksPerRow].at(dy, ColumnExponent::row_term(s, dy));
+          const SplatAlpha a(opacity, exponent2);
+          gaussian[g] = a.gaussian;
+          raw_alpha[g] = a.raw;
+          alpha[g] = a.alpha;
+          // Lanes whose list reaches entry k (contributor_count counts entries 1-based).
+          blended[g] = (state.contributor_count[chunk] > k) & draws(exponent2, a.alpha);
         }
-        power_sums.add_to(acc, s, column);
+        for (int g = 0; g < size; ++g) {
+          if (!simd::any(blended[g])) continue;
+          blended_any = true;
+          const int chunk = order[first + g];
+          const float dy = s.mean_y - float(y0 + chunk / kChunksPerRow);
+          f32v v_alpha, v_rgb[3];
+          acc.weight += composite_step_vjp(state.reverse[chunk], blended[g], alpha[g], red, green, blue,
+                             state.v_pixel[chunk], state.final_transmittance[chunk],
+                             state.background_dot_v[chunk], v_alpha, v_rgb);
+          for (int ch = 0; ch < 3; ++ch) acc.color[ch] += v_rgb[ch];
+          // α = min(kMaxAlpha, o·G): where the clamp holds, α does not depend on o or G
+          // (unless the caller asked for the reference rasterizer's straight-through).
+          if (zero_clamped_alpha_gradient) v_alpha = raw_alpha[g] > kMaxAlpha ? f32v{} : v_alpha;
+          acc.opacity += gaussian[g] * v_alpha;
+          // G = exp(power): ∂G/∂power = G, so v_power = o G v_α.
+          power_sums[chunk % kChunksPerRow].add(raw_alpha[g] * v_alpha, dy);
+        }
       }
+      for (int c = 0; c < kChunksPerRow; ++c) power_sums[c].add_to(acc, s, column[c]);
     }
     // Sums of nothing are +0, as the reduction of untouched accumulators would give.
     overlap_grads[position] = blended_any ? acc.reduce() : Splat2DGrad{};
