@@ -5,7 +5,8 @@
 // instruction per kLanes pixels. Eight, not sixteen, even where the CPU has AVX-512: most
 // splats are a few pixels wide, and 8-pixel chunks evaluate 36 % fewer pixels than whole
 // 16-pixel rows (conformance model at 800×800: 7.7 against 12.2 million per frame), for an
-// 18 % faster blend on the AMD EPYC this project measures on.
+// 18 % faster blend on the AMD EPYC this project measures on. The blend's backward also takes
+// whole 16-lane rows (f32x16 below) where a splat blended in both chunks of a row.
 //
 // The helpers below have scalar overloads too, so templated code (the shared compositor)
 // runs unchanged on `float` + `bool` (one ray) or `f32v` + `i32v` (kLanes pixels).
@@ -200,42 +201,113 @@ inline f32v reduce_add_each(const f32v v[kLanes]) {
   return sum;
 }
 
-// 2^x for x <= 0, flushing toward 0 below -126. The rasterizer's α is o·2^(power·log2 e):
-// log2 e is folded into the exponent's coefficients once per splat, so the range reduction
-// is exact (x = n + f, n = round(x), f = x − n in [−½, ½] without rounding) and one step
-// shorter than e^x's (which must round x·log2 e, then subtract n·ln 2). The blend waits on
-// this chain at every pixel-Gaussian pair, so it is kept short: a degree-6 minimax polynomial
-// for 2^f by Estrin's scheme (three dependent steps after f), times 2^n. Relative error below
-// 1.71e-7, 1.5 ulp (measured against double exp2 at every float from 0 to −126).
-// Deterministic on every machine (no libm call), which keeps renders identical across
-// platforms and thread counts.
-inline f32v exp2_nonpositive(f32v x) {
-  x = max(x, broadcast(-126.0f));
-#if defined(__AVX512VL__)
-  const f32v n = reinterpret_cast<f32v>(_mm256_roundscale_ps(reinterpret_cast<__m256>(x),
-                                                             _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC));
+// ---- Whole tile rows: 16 lanes --------------------------------------------------------
+// The blend's backward takes the rows a splat covers whole (both 8-pixel chunks) as one
+// 16-lane vector: one AVX-512 register, half the instructions per pixel of two 8-lane ones.
+constexpr int kRowLanes = 16;
+using f32x16 = float __attribute__((vector_size(4 * kRowLanes)));
+using i32x16 = std::int32_t __attribute__((vector_size(4 * kRowLanes)));
+
+inline f32x16 concat(f32v low, f32v high) {
+  return __builtin_shufflevector(low, high, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+}
+inline i32x16 concat(i32v low, i32v high) {
+  return __builtin_shufflevector(low, high, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+}
+inline f32v low_half(f32x16 v) { return __builtin_shufflevector(v, v, 0, 1, 2, 3, 4, 5, 6, 7); }
+inline f32v high_half(f32x16 v) { return __builtin_shufflevector(v, v, 8, 9, 10, 11, 12, 13, 14, 15); }
+
+inline f32x16 select(i32x16 mask, f32x16 a, f32x16 b) { return mask ? a : b; }
+inline i32x16 mask_and(i32x16 a, i32x16 b) { return a & b; }
+inline i32x16 mask_and_not(i32x16 a, i32x16 b) { return a & ~b; }
+inline i32x16 mask_or(i32x16 a, i32x16 b) { return a | b; }
+inline bool any(i32x16 mask) {
+#if defined(__AVX512F__)
+  const __m512i m = reinterpret_cast<__m512i>(mask);
+  return _mm512_test_epi32_mask(m, m) != 0;
 #else
-  // round(x) as the truncation of x − ½ (x <= 0): f lands in (−½, ½].
-  const f32v n = __builtin_convertvector(__builtin_convertvector(x - 0.5f, i32v), f32v);
+  return any(__builtin_shufflevector(mask, mask, 0, 1, 2, 3, 4, 5, 6, 7) |
+             __builtin_shufflevector(mask, mask, 8, 9, 10, 11, 12, 13, 14, 15));
 #endif
-  const f32v f = x - n;
-  // 2^f ≈ (c0 + c1 f) + f²(c2 + c3 f) + f⁴(c4 + c5 f + c6 f²).
-  const f32v f2 = f * f;
-  const f32v low = f * 6.9314720574e-1f + 1.0000000006f;
-  const f32v mid = f * 5.5503287770e-2f + 2.4022646891e-1f;
-  const f32v high = f * 1.3399931203e-3f + 9.6184889525e-3f;
-  const f32v f4 = f2 * f2;
-  const f32v p = (f2 * 1.5345813165e-4f + high) * f4 + (mid * f2 + low);
-  // p · 2ⁿ: one instruction where AVX-512 has it, else 2ⁿ built in the exponent bits (the
-  // same single rounding either way).
-#if defined(__AVX512VL__)
-  return reinterpret_cast<f32v>(_mm256_scalef_ps(reinterpret_cast<__m256>(p), reinterpret_cast<__m256>(n)));
+}
+// As the 8-lane min and max: the second operand when either is NaN.
+inline f32x16 min(f32x16 a, f32x16 b) {
+#if defined(__AVX512F__)
+  return reinterpret_cast<f32x16>(_mm512_maskz_min_ps(0xffff, reinterpret_cast<__m512>(a), reinterpret_cast<__m512>(b)));
 #else
-  const i32v exponent = (__builtin_convertvector(n, i32v) + 127) << 23;
-  f32v scale;
+  return a < b ? a : b;
+#endif
+}
+inline f32x16 max(f32x16 a, f32x16 b) {
+#if defined(__AVX512F__)
+  return reinterpret_cast<f32x16>(_mm512_maskz_max_ps(0xffff, reinterpret_cast<__m512>(a), reinterpret_cast<__m512>(b)));
+#else
+  return a > b ? a : b;
+#endif
+}
+
+namespace detail {
+// (The 512-bit intrinsics are the zero-masked forms with every lane set: GCC 12 warns that
+// the unmasked ones read an uninitialised register.)
+// round(x) to the nearest integer and p · 2ⁿ, for exp2_nonpositive: one instruction each
+// where AVX-512 has them, else the same arithmetic in the other widths' terms (an 8-lane and
+// a 16-lane call give every lane the same result, which the backward's rows rely on).
+#if defined(__AVX512VL__)
+inline f32v round_nearest(f32v x) {
+  return reinterpret_cast<f32v>(
+      _mm256_roundscale_ps(reinterpret_cast<__m256>(x), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC));
+}
+inline f32x16 round_nearest(f32x16 x) {
+  return reinterpret_cast<f32x16>(
+      _mm512_maskz_roundscale_ps(0xffff, reinterpret_cast<__m512>(x), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC));
+}
+inline f32v scale_by_power_of_two(f32v p, f32v n) {
+  return reinterpret_cast<f32v>(_mm256_scalef_ps(reinterpret_cast<__m256>(p), reinterpret_cast<__m256>(n)));
+}
+inline f32x16 scale_by_power_of_two(f32x16 p, f32x16 n) {
+  return reinterpret_cast<f32x16>(_mm512_maskz_scalef_ps(0xffff, reinterpret_cast<__m512>(p), reinterpret_cast<__m512>(n)));
+}
+#else
+// round(x) as the truncation of x − ½ (x <= 0): f lands in (−½, ½].
+template <class F>
+F round_nearest(F x) {
+  using I = decltype(x < x);
+  return __builtin_convertvector(__builtin_convertvector(x - 0.5f, I), F);
+}
+// 2ⁿ built in the exponent bits (n >= −126), then one multiplication.
+template <class F>
+F scale_by_power_of_two(F p, F n) {
+  using I = decltype(p < p);
+  const I exponent = (__builtin_convertvector(n, I) + 127) << 23;
+  F scale;
   std::memcpy(&scale, &exponent, sizeof(scale));
   return p * scale;
+}
 #endif
+}  // namespace detail
+
+// 2^x for x <= 0, flushing toward 0 below -126, lane-wise on 8 or 16 lanes. The rasterizer's
+// α is o·2^(power·log2 e): log2 e is folded into the exponent's coefficients once per splat,
+// so the range reduction is exact (x = n + f, n = round(x), f = x − n in [−½, ½] without
+// rounding) and one step shorter than e^x's (which must round x·log2 e, then subtract n·ln 2).
+// The blend waits on this chain at every pixel-Gaussian pair, so it is kept short: a
+// degree-6 minimax polynomial for 2^f by Estrin's scheme (three dependent steps after f),
+// times 2^n. Relative error below 1.71e-7, 1.5 ulp (measured against double exp2 at every
+// float from 0 to −126). Deterministic on every machine (no libm call), which keeps renders
+// identical across platforms and thread counts.
+template <class F>
+F exp2_nonpositive(F x) {
+  x = max(x, F{} - 126.0f);
+  const F n = detail::round_nearest(x);
+  const F f = x - n;
+  // 2^f ≈ (c0 + c1 f) + f²(c2 + c3 f) + f⁴(c4 + c5 f + c6 f²).
+  const F f2 = f * f;
+  const F low = f * 6.9314720574e-1f + 1.0000000006f;
+  const F mid = f * 5.5503287770e-2f + 2.4022646891e-1f;
+  const F high = f * 1.3399931203e-3f + 9.6184889525e-3f;
+  const F f4 = f2 * f2;
+  const F p = (f2 * 1.5345813165e-4f + high) * f4 + (mid * f2 + low);
+  return detail::scale_by_power_of_two(p, n);
 }
 
 }  // namespace splat::simd

@@ -170,7 +170,7 @@ bool blend_chunk(int chunk, int x0, int y0, int width, int height, TileBatch& ba
       const int j = __builtin_ctzll(todo);
       const Splat2D& s = *batch.splat[j];
       const float dy = s.mean_y - y;
-      const f32v exponent2 = batch.column[j][column].at(dy, ColumnExponent::row_term(s, dy));
+      const f32v exponent2 = batch.column[j][column].at(s, dy);
       group[size] = j;
       alpha[size] = alpha_of(simd::broadcast(s.opacity), exponent2);
       passes[size] = draws(exponent2, alpha[size]);

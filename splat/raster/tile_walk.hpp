@@ -55,40 +55,54 @@ inline f32v column_dx(const Splat2D& s, int x0, int column) {
 
 // The α's exponent power = −½(a dx² + c dy²) − b dx dy, taken in base 2 (power·log2 e, for
 // simd::exp2_nonpositive) and split by what it depends on: the terms of dx alone are taken
-// once per chunk column, so each row costs one addition and one multiply-add before the exp.
+// once per chunk column (or whole row), so each row costs one addition and one multiply-add
+// before the exp. F is f32v for a chunk, f32x16 for a whole tile row; lane for lane the two
+// compute the same.
 constexpr float kLog2e = 1.44269504088896341f;
 
-struct ColumnExponent {
-  f32v base, slope;  // −½ log2e · a dx², −log2e · b dx
+template <class F>
+struct ExponentTerms {
+  F base, slope;  // −½ log2e · a dx², −log2e · b dx
 
-  ColumnExponent() = default;
-  ColumnExponent(const Splat2D& s, f32v dx) : base((-0.5f * kLog2e * s.conic_a) * dx * dx), slope((-kLog2e * s.conic_b) * dx) {}
+  ExponentTerms() = default;
+  ExponentTerms(const Splat2D& s, F dx) : base((-0.5f * kLog2e * s.conic_a) * dx * dx), slope((-kLog2e * s.conic_b) * dx) {}
 
-  // The row's term −½ log2e · c dy², dy = mean_y − pixel y.
-  static float row_term(const Splat2D& s, float dy) { return (-0.5f * kLog2e * s.conic_c) * dy * dy; }
-  // power·log2 e at row offset dy, given its row_term.
-  f32v at(float dy, float row_term) const { return (base + row_term) + slope * dy; }
+  // power·log2 e at row offset dy = mean_y − pixel y.
+  F at(const Splat2D& s, float dy) const {
+    const float row_term = (-0.5f * kLog2e * s.conic_c) * dy * dy;  // −½ log2e · c dy²
+    return (base + row_term) + slope * dy;
+  }
 };
+using ColumnExponent = ExponentTerms<f32v>;
 
-// The column's terms of the exponent's gradients (the backward's), taken once per column.
+// dx of a whole tile row: its two chunk columns' side by side.
+inline simd::f32x16 row_dx(const Splat2D& s, int x0) {
+  static_assert(kChunksPerRow == 2, "a row is two chunk columns");
+  return simd::concat(column_dx(s, x0, 0), column_dx(s, x0, 1));
+}
+
+// The column's (or row's) terms of the exponent's gradients (the backward's).
+template <class F>
 struct SplatColumn {
-  f32v dx, a_dx, b_dx;
+  F dx, a_dx, b_dx;
 
-  SplatColumn(const Splat2D& s, int x0, int column) : dx(column_dx(s, x0, column)), a_dx(s.conic_a * dx), b_dx(s.conic_b * dx) {}
+  SplatColumn(const Splat2D& s, F dx_) : dx(dx_), a_dx(s.conic_a * dx), b_dx(s.conic_b * dx) {}
 };
 
 // α = min(kMaxAlpha, o·G) with G = exp(power) = 2^exponent2, and the intermediates its
 // backward needs.
+template <class F>
 struct SplatAlpha {
-  f32v gaussian, raw, alpha;  // G, o·G, the clamped α
+  F gaussian, raw, alpha;  // G, o·G, the clamped α
 
-  SplatAlpha(f32v opacity, f32v exponent2)
-      : gaussian(simd::exp2_nonpositive(exponent2)),
-        raw(opacity * gaussian),
-        alpha(simd::min(simd::broadcast(kMaxAlpha), raw)) {}
+  SplatAlpha(F opacity, F exponent2)
+      : gaussian(simd::exp2_nonpositive(exponent2)), raw(opacity * gaussian), alpha(simd::min(F{} + kMaxAlpha, raw)) {}
 };
 
-inline f32v alpha_of(f32v opacity, f32v exponent2) { return SplatAlpha(opacity, exponent2).alpha; }
+template <class F>
+F alpha_of(F opacity, F exponent2) {
+  return SplatAlpha<F>(opacity, exponent2).alpha;
+}
 
 // The walks take α for kAlphaGroup list entries (forward) or chunks (backward) at a time, then
 // use them in order. Each α is a chain of some twenty dependent operations (the exponent,
@@ -99,7 +113,10 @@ constexpr int kAlphaGroup = 8;
 
 // Lanes that draw: α ≥ kMinAlpha with the exponent not positive (as the reference tests; the
 // base-2 exponent has the sign of power).
-inline i32v draws(f32v exponent2, f32v alpha) { return (exponent2 <= 0.0f) & (alpha >= kMinAlpha); }
+template <class F>
+auto draws(F exponent2, F alpha) {
+  return (exponent2 <= 0.0f) & (alpha >= kMinAlpha);
+}
 
 // The rows of `box` in which chunk `column` of the tile at (x0, y0) may draw, as a bit mask
 // (bit r for row y0 + r). Every row of the tile is tested at once, one per lane.

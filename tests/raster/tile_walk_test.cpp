@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "splat/raster/rasterizer.hpp"
 #include "splat/raster/tile_walk.hpp"
@@ -33,7 +34,7 @@ void render_random(Frame& f, unsigned seed, int width, int height, int count) {
 // Whether any pixel centre of chunk `column` in row y draws, by the blend's own arithmetic.
 bool chunk_draws(const Splat2D& s, int x0, int column, int y) {
   const float dy = s.mean_y - float(y);
-  const f32v exponent2 = ColumnExponent(s, column_dx(s, x0, column)).at(dy, ColumnExponent::row_term(s, dy));
+  const f32v exponent2 = ColumnExponent(s, column_dx(s, x0, column)).at(s, dy);
   return simd::any(draws(exponent2, alpha_of(simd::broadcast(s.opacity), exponent2)));
 }
 
@@ -103,6 +104,46 @@ TEST(TileWalk, BlendWorkCountsMatchABruteForceCount) {
   EXPECT_GT(work.passing_evaluations, 0u);
   EXPECT_LE(work.passing_evaluations, work.pixel_evaluations);
   EXPECT_EQ(work.pixel_evaluations % kLanes, 0u);
+}
+
+// The backward takes whole tile rows at 16 lanes where the forward blended chunks at 8: its
+// α must be the forward's bit for bit (else a lane near the α ≥ 1/255 edge could count as
+// blended in one pass and not in the other), so a row's exponent, α and draw test must be its
+// two chunks', lane for lane.
+TEST(TileWalk, RowOfSixteenLanesGivesItsTwoChunksAlphaBitForBit) {
+  Frame f;
+  render_random(f, 5, 160, 128, 400);
+  const TileGrid& grid = f.result.frame.grid;
+  const TileBins& bins = f.result.frame.bins;
+  std::size_t rows = 0, drawing_lanes = 0;
+  for (int tile = 0; tile < grid.count(); ++tile) {
+    const int x0 = (tile % grid.tiles_x) * kTileSize, y0 = (tile / grid.tiles_x) * kTileSize;
+    for (std::uint32_t k = bins.tile_start[tile]; k < bins.tile_start[tile + 1]; ++k) {
+      const Splat2D& s = f.result.frame.projected.splats[bins.gaussian_ids[k]];
+      const ExponentTerms<simd::f32x16> row(s, row_dx(s, x0));
+      const ColumnExponent left(s, column_dx(s, x0, 0)), right(s, column_dx(s, x0, 1));
+      for (int y = y0; y < y0 + kTileSize; ++y) {
+        const float dy = s.mean_y - float(y);
+        const simd::f32x16 e16 = row.at(s, dy);
+        const f32v e_left = left.at(s, dy), e_right = right.at(s, dy);
+        const SplatAlpha a16(simd::f32x16{} + s.opacity, e16);
+        const SplatAlpha a_left(simd::broadcast(s.opacity), e_left), a_right(simd::broadcast(s.opacity), e_right);
+        const simd::i32x16 d16 = draws(e16, a16.alpha);
+        const simd::i32x16 d8 = simd::concat(draws(e_left, a_left.alpha), draws(e_right, a_right.alpha));
+        const simd::f32x16 pairs[4][2] = {{e16, simd::concat(e_left, e_right)},
+                                          {a16.gaussian, simd::concat(a_left.gaussian, a_right.gaussian)},
+                                          {a16.raw, simd::concat(a_left.raw, a_right.raw)},
+                                          {a16.alpha, simd::concat(a_left.alpha, a_right.alpha)}};
+        for (const auto& pair : pairs)
+          ASSERT_EQ(std::memcmp(&pair[0], &pair[1], sizeof(pair[0])), 0) << "tile " << tile << " entry " << k << " row " << y;
+        ASSERT_EQ(std::memcmp(&d16, &d8, sizeof(d16)), 0) << "tile " << tile << " entry " << k << " row " << y;
+        ++rows;
+        for (int lane = 0; lane < simd::kRowLanes; ++lane) drawing_lanes += d16[lane] != 0;
+      }
+    }
+  }
+  EXPECT_GT(rows, 10000u);
+  EXPECT_GT(drawing_lanes, rows);  // the rows hold drawing lanes, not only empty ones
 }
 
 }  // namespace
