@@ -27,12 +27,13 @@ constexpr int kTilePixels = kTileSize * kTileSize;
 // pixels (row by row) per quantity: chunk c's kLanes pixels start at c · kLanes, and a whole
 // row's two chunks are one 16-lane vector.
 struct TileReverseState {
-  float transmittance[kTilePixels];  // CompositeReverse: Tᵢ₊₁, starts at the final T
-  float behind[3][kTilePixels];      // CompositeReverse: Bᵢ
-  float v_pixel[3][kTilePixels];     // ∂L/∂C
-  float final_transmittance[kTilePixels];
-  float background_dot_v[kTilePixels];  // bg · ∂L/∂C
-  std::int32_t contributor_count[kTilePixels];  // list entries up to the last blended, per pixel
+  // (Aligned to the cache line, so no row straddles two.)
+  alignas(64) float transmittance[kTilePixels];  // CompositeReverse: Tᵢ₊₁, starts at the final T
+  alignas(64) float behind[3][kTilePixels];      // CompositeReverse: Bᵢ
+  alignas(64) float v_pixel[3][kTilePixels];     // ∂L/∂C
+  alignas(64) float final_transmittance[kTilePixels];
+  alignas(64) float background_dot_v[kTilePixels];  // bg · ∂L/∂C
+  alignas(64) std::int32_t contributor_count[kTilePixels];  // list entries up to the last blended, per pixel
 };
 
 template <class V, class T>
