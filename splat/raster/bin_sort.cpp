@@ -175,7 +175,7 @@ void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, Til
                 " Gaussian-tile overlaps exceed the 32-bit list index; render smaller");
   bins.tile_start[tile_count] = std::uint32_t(total);
   bins.gaussian_ids.resize(total);
-  bins.overlap_position.resize(total);
+  bins.entry_overlap.resize(total);
 
   // 5. Fill, each chunk into its own slots.
   tbb::parallel_for(std::size_t(0), kFillChunks, [&](std::size_t chunk) {
@@ -184,12 +184,12 @@ void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, Til
     for (std::size_t k = chunk * chunk_size; k < end; ++k) {
       const std::uint32_t id = order[k];
       const TileRect& r = bins.depth_rects[k];
-      std::uint32_t* positions = &bins.overlap_position[bins.depth_overlap_start[k]];
+      std::uint32_t overlap = bins.depth_overlap_start[k];
       for (int ty = r.y0; ty < r.y1; ++ty)
         for (int tx = r.x0; tx < r.x1; ++tx) {
           const std::uint32_t position = next[std::size_t(ty) * grid.tiles_x + tx]++;
           bins.gaussian_ids[position] = id;
-          *positions++ = position;
+          bins.entry_overlap[position] = overlap++;
         }
     }
   });

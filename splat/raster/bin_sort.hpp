@@ -16,11 +16,13 @@ namespace splat {
 struct TileBins {
   std::vector<std::uint32_t> gaussian_ids;  // [M] tile after tile, each front to back
   std::vector<std::uint32_t> tile_start;    // [tiles + 1] tile t's list is [start[t], start[t+1])
-  // The inverse map, for the backward pass to gather each Gaussian's per-tile gradients in a
-  // fixed order: Gaussian i's overlaps are overlap_position[overlap_start[i] .. [i+1]),
-  // positions in gaussian_ids, in the row-major order of its tile rectangle.
-  std::vector<std::uint32_t> overlap_start;     // [N + 1]
-  std::vector<std::uint32_t> overlap_position;  // [M]
+  // The overlaps in Gaussian order, for the backward pass to sum each Gaussian's per-tile
+  // gradients in a fixed order: Gaussian i's overlaps are [overlap_start[i], [i+1]), in the
+  // row-major order of its tile rectangle, and list entry p is overlap entry_overlap[p]. The
+  // blend's backward writes each entry's record at its overlap, so that the projection's
+  // backward reads a Gaussian's records side by side rather than from its tiles' lists.
+  std::vector<std::uint32_t> overlap_start;  // [N + 1]
+  std::vector<std::uint32_t> entry_overlap;  // [M]
 
   // Scratch reused across frames.
   std::vector<std::uint32_t> depth_order, chunk_counts;

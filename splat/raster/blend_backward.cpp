@@ -152,10 +152,11 @@ bool reverse_units(const EntryInputs& in, const ExponentTerms<F>& exponent, cons
     const int size = std::min(kGroup, count - first);
     F gaussian[kGroup], raw_alpha[kGroup], alpha[kGroup];
     I blended[kGroup];
+    float dy[kGroup];
     for (int g = 0; g < size; ++g) {
       const int chunk = chunks[first + g];
-      const float dy = s.mean_y - float(in.y0 + chunk / kChunksPerRow);
-      const F exponent2 = exponent.at(s, dy);
+      dy[g] = s.mean_y - float(in.y0 + chunk / kChunksPerRow);
+      const F exponent2 = exponent.at(s, dy[g]);
       const SplatAlpha a(opacity, exponent2);
       gaussian[g] = a.gaussian;
       raw_alpha[g] = a.raw;
@@ -168,7 +169,6 @@ bool reverse_units(const EntryInputs& in, const ExponentTerms<F>& exponent, cons
       blended_any = true;
       const int chunk = chunks[first + g];
       const int p = chunk * kLanes;
-      const float dy = s.mean_y - float(in.y0 + chunk / kChunksPerRow);
       CompositeReverse<F> reverse{load<F>(&state.transmittance[p]),
                                   {load<F>(&state.behind[0][p]), load<F>(&state.behind[1][p]), load<F>(&state.behind[2][p])}};
       const F v_pixel[3] = {load<F>(&state.v_pixel[0][p]), load<F>(&state.v_pixel[1][p]), load<F>(&state.v_pixel[2][p])};
@@ -185,7 +185,7 @@ bool reverse_units(const EntryInputs& in, const ExponentTerms<F>& exponent, cons
       if (in.zero_clamped_alpha_gradient) v_alpha = raw_alpha[g] > kMaxAlpha ? F{} : v_alpha;
       acc.opacity += in_row<kPlace>(gaussian[g] * v_alpha);
       // G = exp(power): ∂G/∂power = G, so v_power = o G v_α.
-      acc.power.add(in_row<kPlace>(raw_alpha[g] * v_alpha), dy);
+      acc.power.add(in_row<kPlace>(raw_alpha[g] * v_alpha), dy[g]);
     }
   }
   return blended_any;
@@ -201,7 +201,7 @@ int list_bits(std::uint32_t bits, int* out) {
 void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& projected,
                          const TileBins& bins, const TileGrid& grid, const float background[3],
                          bool zero_clamped_alpha_gradient, const RenderResult& forward, const Image& v_color,
-                         std::vector<Splat2DGrad>& overlap_grads) {
+                         OverlapGradients& overlap) {
   const std::vector<std::uint32_t>& entry_chunks = forward.frame.entry_chunks;
   const int x0 = tile_x * kTileSize, y0 = tile_y * kTileSize;
   const std::size_t tile = std::size_t(tile_y) * grid.tiles_x + tile_x;
@@ -209,22 +209,19 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
   if (list_begin == list_end) return;
   TileReverseState state;
   const int max_count = load_tile(x0, y0, background, forward, v_color, state);
-  // Entries no pixel reached contribute nothing.
-  std::memset(static_cast<void*>(&overlap_grads[list_begin + max_count]), 0,
-              (list_end - list_begin - max_count) * sizeof(Splat2DGrad));
 
   static_assert(kChunksPerRow == 2, "a row's chunks are bits 2r (left) and 2r + 1 (right)");
   constexpr std::uint32_t kLeftChunks = 0x55555555u;
   for (int k = max_count - 1; k >= 0; --k) {
     const std::uint32_t position = list_begin + std::uint32_t(k);
     constexpr int kPrefetchDistance = 16;
-    if (k >= kPrefetchDistance)
+    if (k >= kPrefetchDistance) {
       prefetch_splat(projected.splats[bins.gaussian_ids[position - kPrefetchDistance]]);
-    const std::uint32_t chunks = entry_chunks[position];
-    if (chunks == 0) {  // the forward pass blended this entry nowhere: no gradient
-      overlap_grads[position] = Splat2DGrad{};
-      continue;
+      // The record's place is in Gaussian order, far from its neighbours': claim it early.
+      __builtin_prefetch(&overlap.records[bins.entry_overlap[position - kPrefetchDistance]], 1);
     }
+    const std::uint32_t chunks = entry_chunks[position];
+    if (chunks == 0) continue;  // the forward pass blended this entry nowhere: no gradient
     const Splat2D& s = projected.splats[bins.gaussian_ids[position]];
     // The chunks where the forward pass blended this entry: rows where it blended in both
     // chunks as one 16-lane unit, then the left and the right chunks alone, each in row
@@ -247,8 +244,10 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
     if (right_count > 0)
       blended_any |= reverse_units<Placement::kRight>(in, ColumnExponent(s, simd::high_half(row.dx)), units[2],
                                                       right_count, state, acc);
-    // Sums of nothing are +0, as the reduction of untouched accumulators would give.
-    overlap_grads[position] = blended_any ? acc.reduce(s, row) : Splat2DGrad{};
+    if (!blended_any) continue;
+    const std::uint32_t j = bins.entry_overlap[position];
+    overlap.records[j] = acc.reduce(s, row);
+    overlap.written[j] = 1;
   }
 }
 
@@ -257,16 +256,17 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
 void blend_tiles_backward(const ProjectedGaussians& projected, const TileBins& bins,
                           const TileGrid& grid, const float background[3],
                           AlphaClampGradient clamp_gradient, const RenderResult& forward,
-                          const Image& v_color, std::vector<Splat2DGrad>& overlap_grads) {
+                          const Image& v_color, OverlapGradients& overlap) {
   if (forward.frame.entry_chunks.size() != bins.gaussian_ids.size())
     throw ArgumentError("blend backward: the forward result holds the walk of " +
                         std::to_string(forward.frame.entry_chunks.size()) + " tile-list entries, the lists have " +
                         std::to_string(bins.gaussian_ids.size()));
-  overlap_grads.resize(bins.gaussian_ids.size());
+  overlap.records.resize(bins.gaussian_ids.size());
+  overlap.written.assign(bins.gaussian_ids.size(), 0);
   tbb::parallel_for(0, grid.count(), [&](int tile) {
     blend_tile_backward(tile % grid.tiles_x, tile / grid.tiles_x, projected, bins, grid,
                         background, clamp_gradient == AlphaClampGradient::kZero, forward, v_color,
-                        overlap_grads);
+                        overlap);
   });
 }
 

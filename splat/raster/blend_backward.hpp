@@ -2,6 +2,7 @@
 // Backward of stage 3: per tile, walk each pixel's blended Gaussians back to front through
 // the shared compositor's backward and collect, per Gaussian–tile overlap, the gradient of
 // the loss with respect to the Gaussian's 2D parameters.
+#include <cstdint>
 #include <vector>
 
 #include "splat/core/image.hpp"
@@ -24,14 +25,24 @@ struct Splat2DGrad {
   float blend_weight;
 };
 
-// Writes overlap_grads[p] for every entry p of every tile list (zero where the Gaussian
-// blended nowhere in that tile). Each entry is written by exactly one tile in a fixed order,
+// The blend's backward records, one per Gaussian–tile overlap, in Gaussian order (index
+// TileBins::entry_overlap[p] for list entry p): where the entries' gradients, scattered over
+// the tiles' lists, are written, so that the projection's backward reads each Gaussian's side
+// by side. Only overlaps where the Gaussian blended are written: `written[j]` says which
+// (the others hold stale values and stand for zero), which spares the blend's backward a
+// scattered write for every entry that blended nowhere (a third of them on real captures).
+struct OverlapGradients {
+  std::vector<Splat2DGrad> records;   // [M]
+  std::vector<std::uint8_t> written;  // [M], 1 where records[j] is this frame's
+};
+
+// Fills `overlap` for every entry of every tile list. Each entry is written by exactly one tile in a fixed order,
 // so the result does not depend on the thread count. `v_color` is ∂L/∂color, [H, W, 3];
 // `forward` is blend_tiles' result for these lists, rendered for a backward pass (its
 // per-pixel state and the chunks where each entry blended); ArgumentError otherwise.
 void blend_tiles_backward(const ProjectedGaussians& projected, const TileBins& bins,
                           const TileGrid& grid, const float background[3],
                           AlphaClampGradient clamp_gradient, const RenderResult& forward,
-                          const Image& v_color, std::vector<Splat2DGrad>& overlap_grads);
+                          const Image& v_color, OverlapGradients& overlap);
 
 }  // namespace splat

@@ -215,7 +215,7 @@ bool chain_lanes(const GaussianModel& model, std::size_t first, int lanes, std::
 
 void project_gaussians_backward(const GaussianModel& model, const Camera& camera, int sh_degree,
                                 const TileBins& bins,
-                                const std::vector<Splat2DGrad>& overlap_grads,
+                                const OverlapGradients& overlap,
                                 GaussianModel& grads, std::vector<float>& viewspace_grad_norm,
                                 std::vector<float>& blend_weight, CameraPoseGradient* camera_pose) {
   const std::size_t n = model.size();
@@ -256,18 +256,12 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
       std::uint32_t live = 0;
       for (int l = 0; l < lanes; ++l) {
         const std::size_t i = first + std::size_t(l);
-        // A Gaussian's records lie in its tiles' lists, far apart: fetch those of a Gaussian
-        // a few ahead so the gather below finds them in cache.
-        constexpr std::size_t kPrefetchAhead = 4;
-        if (i + kPrefetchAhead < end)
-          for (std::uint32_t j = bins.overlap_start[i + kPrefetchAhead];
-               j < bins.overlap_start[i + kPrefetchAhead + 1]; ++j)
-            __builtin_prefetch(&overlap_grads[bins.overlap_position[j]]);
         const std::uint32_t first_overlap = bins.overlap_start[i], last_overlap = bins.overlap_start[i + 1];
         // Sum over the Gaussian's tiles, in its rectangle's order.
         Splat2DGrad g{};
         for (std::uint32_t j = first_overlap; j < last_overlap; ++j) {
-          const Splat2DGrad& o = overlap_grads[bins.overlap_position[j]];
+          if (!overlap.written[j]) continue;  // blended nowhere in that tile: zero
+          const Splat2DGrad& o = overlap.records[j];
           g.mean_x += o.mean_x;
           g.mean_y += o.mean_y;
           g.conic_a += o.conic_a;

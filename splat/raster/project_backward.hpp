@@ -17,7 +17,8 @@ struct CameraPoseGradient {
   glm::vec3 translation{0.0f};
 };
 
-// Sums each Gaussian's overlap gradients in the fixed order of its tile rectangle, then
+// Sums each Gaussian's overlap gradients (`overlap`'s written records; Gaussian i's are
+// [bins.overlap_start[i], [i+1]), in the fixed order of its tile rectangle), then
 // chains them through the colour (SH and its view direction), the opacity sigmoid, the
 // conic inverse, the EWA covariance Σ' = J W Σ Wᵀ Jᵀ and the pixel projection to means,
 // log-scales, quaternions (through their normalisation), opacity logits and SH coefficients.
@@ -27,11 +28,11 @@ struct CameraPoseGradient {
 // `blend_weight[i]` receives Σ Tα over all pixels (the overlaps' blend_weight summed).
 // `camera_pose`, if given, receives ∂L/∂(the camera's pose) (camera_pose_vjp), summed over
 // the Gaussians in fixed blocks and fixed order, so it too is the same for any thread count.
-// The chain runs kLanes Gaussians at a time (lane_projection.hpp); the gather of each
+// The chain runs kLanes Gaussians at a time (lane_projection.hpp); the sum of each
 // Gaussian's tile records stays one Gaussian at a time, in its rectangle's order.
 void project_gaussians_backward(const GaussianModel& model, const Camera& camera, int sh_degree,
                                 const TileBins& bins,
-                                const std::vector<Splat2DGrad>& overlap_grads,
+                                const OverlapGradients& overlap,
                                 GaussianModel& grads, std::vector<float>& viewspace_grad_norm,
                                 std::vector<float>& blend_weight,
                                 CameraPoseGradient* camera_pose = nullptr);

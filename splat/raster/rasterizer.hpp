@@ -58,7 +58,7 @@ class Rasterizer {
                 const RenderResult& forward, const Image& v_color, RasterGradients& grads);
 
  private:
-  std::vector<Splat2DGrad> overlap_grads_;  // [M] scratch for the backward pass
+  OverlapGradients overlap_grads_;  // scratch for the backward pass
 };
 
 // Throws ArgumentError for an inconsistent model or a camera without pixels.

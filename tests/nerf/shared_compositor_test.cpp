@@ -89,7 +89,10 @@ Outcome through_rasterizer(const Sequence& s, const float v_color[3]) {
   }
   const TileGrid grid = TileGrid::for_image(kTileSize, kTileSize);
   TileBins bins;
-  for (std::size_t i = 0; i < n; ++i) bins.gaussian_ids.push_back(std::uint32_t(i));  // depth order
+  for (std::size_t i = 0; i < n; ++i) {
+    bins.gaussian_ids.push_back(std::uint32_t(i));  // depth order
+    bins.entry_overlap.push_back(std::uint32_t(i));  // one tile each: overlap i is Gaussian i's
+  }
   bins.tile_start = {0, std::uint32_t(n)};
   RenderResult result;
   result.resize(kTileSize, kTileSize);
@@ -101,12 +104,13 @@ Outcome through_rasterizer(const Sequence& s, const float v_color[3]) {
             result.contributor_count[p], std::vector<float>(n), std::vector<float>(3 * n)};
   Image v_image(kTileSize, kTileSize, 3);
   for (int c = 0; c < 3; ++c) v_image.at(kPixelX, kPixelY, c) = v_color[c];
-  std::vector<Splat2DGrad> grads;
+  OverlapGradients grads;
   blend_tiles_backward(projected, bins, grid, kBackground, AlphaClampGradient::kZero, result,
                        v_image, grads);
   for (std::size_t i = 0; i < n; ++i) {
-    o.v_alpha[i] = grads[i].opacity;  // = G·∂L/∂α with G = 1
-    for (int c = 0; c < 3; ++c) o.v_rgb[3 * i + c] = grads[i].color[c];
+    const Splat2DGrad record = grads.written[i] ? grads.records[i] : Splat2DGrad{};  // unwritten: zero
+    o.v_alpha[i] = record.opacity;  // = G·∂L/∂α with G = 1
+    for (int c = 0; c < 3; ++c) o.v_rgb[3 * i + c] = record.color[c];
   }
   return o;
 }

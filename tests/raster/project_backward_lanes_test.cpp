@@ -107,10 +107,16 @@ void expect_lanes_match_scalar(const GaussianModel& model, const Camera& camera,
   bin_and_sort(projected, TileGrid::for_image(camera.width, camera.height), bins);
   std::mt19937 rng(7);
   std::normal_distribution<float> normal(0.0f, 1.0f);
-  std::vector<Splat2DGrad> overlap_grads(bins.gaussian_ids.size());
-  for (Splat2DGrad& o : overlap_grads)
-    o = {normal(rng), normal(rng), normal(rng), normal(rng), normal(rng), normal(rng),
-         {normal(rng), normal(rng), normal(rng)}, std::abs(normal(rng))};
+  // Random records, a quarter of them not written (they must count as zero).
+  OverlapGradients overlap;
+  overlap.records.resize(bins.gaussian_ids.size());
+  overlap.written.resize(bins.gaussian_ids.size());
+  std::bernoulli_distribution written(0.75);
+  for (std::size_t j = 0; j < overlap.records.size(); ++j) {
+    overlap.records[j] = {normal(rng), normal(rng), normal(rng), normal(rng), normal(rng), normal(rng),
+                          {normal(rng), normal(rng), normal(rng)}, std::abs(normal(rng))};
+    overlap.written[j] = written(rng);
+  }
 
   // Filled with garbage first: the backward pass must overwrite every entry.
   GaussianModel lanes;
@@ -120,7 +126,7 @@ void expect_lanes_match_scalar(const GaussianModel& model, const Camera& camera,
     std::fill(array->begin(), array->end(), 7.0f);
   std::vector<float> norm, weight;
   CameraPoseGradient pose;
-  project_gaussians_backward(model, camera, degree, bins, overlap_grads, lanes, norm, weight, &pose);
+  project_gaussians_backward(model, camera, degree, bins, overlap, lanes, norm, weight, &pose);
 
   const int coeffs_per_gaussian = model.sh_coefficients() * 3;
   enum { kMeans, kLogScales, kQuats, kOpacity, kSh, kPose, kGroups };
@@ -134,7 +140,8 @@ void expect_lanes_match_scalar(const GaussianModel& model, const Camera& camera,
   for (std::size_t i = 0; i < model.size(); ++i) {
     Splat2DGrad g{};
     for (std::uint32_t j = bins.overlap_start[i]; j < bins.overlap_start[i + 1]; ++j) {
-      const Splat2DGrad& o = overlap_grads[bins.overlap_position[j]];
+      if (!overlap.written[j]) continue;
+      const Splat2DGrad& o = overlap.records[j];
       g.mean_x += o.mean_x, g.mean_y += o.mean_y, g.conic_a += o.conic_a, g.conic_b += o.conic_b;
       g.conic_c += o.conic_c, g.opacity += o.opacity, g.blend_weight += o.blend_weight;
       for (int c = 0; c < 3; ++c) g.color[c] += o.color[c];
