@@ -246,12 +246,19 @@ void blend_tile_backward(int tile_x, int tile_y, const ProjectedGaussians& proje
                                                       right_count, state, acc);
     if (!blended_any) continue;
     const std::uint32_t j = bins.entry_overlap[position];
-    overlap.records[j] = acc.reduce(s, row);
-    overlap.written[j] = 1;
+    overlap.records[j] = {acc.reduce(s, row), overlap.frame};
   }
 }
 
 }  // namespace
+
+void OverlapGradients::start_frame(std::size_t overlaps) {
+  records.resize(overlaps);  // new records are stamped 0, which no frame is
+  if (++frame == 0) {        // after 2³² frames: clear the stamps once, rather than mistake one
+    for (Record& record : records) record.frame = 0;
+    frame = 1;
+  }
+}
 
 void blend_tiles_backward(const ProjectedGaussians& projected, const TileBins& bins,
                           const TileGrid& grid, const float background[3],
@@ -261,8 +268,7 @@ void blend_tiles_backward(const ProjectedGaussians& projected, const TileBins& b
     throw ArgumentError("blend backward: the forward result holds the walk of " +
                         std::to_string(forward.frame.entry_chunks.size()) + " tile-list entries, the lists have " +
                         std::to_string(bins.gaussian_ids.size()));
-  overlap.records.resize(bins.gaussian_ids.size());
-  overlap.written.assign(bins.gaussian_ids.size(), 0);
+  overlap.start_frame(bins.gaussian_ids.size());
   tbb::parallel_for(0, grid.count(), [&](int tile) {
     blend_tile_backward(tile % grid.tiles_x, tile / grid.tiles_x, projected, bins, grid,
                         background, clamp_gradient == AlphaClampGradient::kZero, forward, v_color,

@@ -28,12 +28,21 @@ struct Splat2DGrad {
 // The blend's backward records, one per Gaussian–tile overlap, in Gaussian order (index
 // TileBins::entry_overlap[p] for list entry p): where the entries' gradients, scattered over
 // the tiles' lists, are written, so that the projection's backward reads each Gaussian's side
-// by side. Only overlaps where the Gaussian blended are written: `written[j]` says which
-// (the others hold stale values and stand for zero), which spares the blend's backward a
-// scattered write for every entry that blended nowhere (a third of them on real captures).
+// by side. Only overlaps where the Gaussian blended are written, stamped with the frame
+// (the others hold an older stamp and stand for zero): that spares the blend's backward a
+// scattered write for every entry that blended nowhere (a third of them on real captures),
+// and the stamp shares its record's cache lines, where a separate flag array would not.
 struct OverlapGradients {
-  std::vector<Splat2DGrad> records;   // [M]
-  std::vector<std::uint8_t> written;  // [M], 1 where records[j] is this frame's
+  struct Record {
+    Splat2DGrad grad;
+    std::uint32_t frame = 0;  // the frame that wrote it
+  };
+  std::vector<Record> records;  // [M]
+  std::uint32_t frame = 0;      // this frame's stamp, never 0 after a backward pass
+
+  bool written(std::size_t j) const { return records[j].frame == frame; }
+  // Starts a frame of `overlaps` records, none written yet.
+  void start_frame(std::size_t overlaps);
 };
 
 // Fills `overlap` for every entry of every tile list. Each entry is written by exactly one tile in a fixed order,

@@ -260,8 +260,8 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
         // Sum over the Gaussian's tiles, in its rectangle's order.
         Splat2DGrad g{};
         for (std::uint32_t j = first_overlap; j < last_overlap; ++j) {
-          if (!overlap.written[j]) continue;  // blended nowhere in that tile: zero
-          const Splat2DGrad& o = overlap.records[j];
+          if (!overlap.written(j)) continue;  // blended nowhere in that tile: zero
+          const Splat2DGrad& o = overlap.records[j].grad;
           g.mean_x += o.mean_x;
           g.mean_y += o.mean_y;
           g.conic_a += o.conic_a;

@@ -108,7 +108,7 @@ Outcome through_rasterizer(const Sequence& s, const float v_color[3]) {
   blend_tiles_backward(projected, bins, grid, kBackground, AlphaClampGradient::kZero, result,
                        v_image, grads);
   for (std::size_t i = 0; i < n; ++i) {
-    const Splat2DGrad record = grads.written[i] ? grads.records[i] : Splat2DGrad{};  // unwritten: zero
+    const Splat2DGrad record = grads.written(i) ? grads.records[i].grad : Splat2DGrad{};  // unwritten: zero
     o.v_alpha[i] = record.opacity;  // = G·∂L/∂α with G = 1
     for (int c = 0; c < 3; ++c) o.v_rgb[3 * i + c] = record.color[c];
   }

@@ -109,14 +109,13 @@ void expect_lanes_match_scalar(const GaussianModel& model, const Camera& camera,
   std::normal_distribution<float> normal(0.0f, 1.0f);
   // Random records, a quarter of them not written (they must count as zero).
   OverlapGradients overlap;
-  overlap.records.resize(bins.gaussian_ids.size());
-  overlap.written.resize(bins.gaussian_ids.size());
+  overlap.start_frame(bins.gaussian_ids.size());
+  overlap.start_frame(bins.gaussian_ids.size());  // the second frame: stamps 1 are stale
   std::bernoulli_distribution written(0.75);
-  for (std::size_t j = 0; j < overlap.records.size(); ++j) {
-    overlap.records[j] = {normal(rng), normal(rng), normal(rng), normal(rng), normal(rng), normal(rng),
-                          {normal(rng), normal(rng), normal(rng)}, std::abs(normal(rng))};
-    overlap.written[j] = written(rng);
-  }
+  for (OverlapGradients::Record& record : overlap.records)
+    record = {{normal(rng), normal(rng), normal(rng), normal(rng), normal(rng), normal(rng),
+               {normal(rng), normal(rng), normal(rng)}, std::abs(normal(rng))},
+              written(rng) ? overlap.frame : overlap.frame - 1};
 
   // Filled with garbage first: the backward pass must overwrite every entry.
   GaussianModel lanes;
@@ -140,8 +139,8 @@ void expect_lanes_match_scalar(const GaussianModel& model, const Camera& camera,
   for (std::size_t i = 0; i < model.size(); ++i) {
     Splat2DGrad g{};
     for (std::uint32_t j = bins.overlap_start[i]; j < bins.overlap_start[i + 1]; ++j) {
-      if (!overlap.written[j]) continue;
-      const Splat2DGrad& o = overlap.records[j];
+      if (!overlap.written(j)) continue;
+      const Splat2DGrad& o = overlap.records[j].grad;
       g.mean_x += o.mean_x, g.mean_y += o.mean_y, g.conic_a += o.conic_a, g.conic_b += o.conic_b;
       g.conic_c += o.conic_c, g.opacity += o.opacity, g.blend_weight += o.blend_weight;
       for (int c = 0; c < 3; ++c) g.color[c] += o.color[c];
