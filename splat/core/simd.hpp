@@ -218,9 +218,6 @@ inline f32v low_half(f32x16 v) { return __builtin_shufflevector(v, v, 0, 1, 2, 3
 inline f32v high_half(f32x16 v) { return __builtin_shufflevector(v, v, 8, 9, 10, 11, 12, 13, 14, 15); }
 
 inline f32x16 select(i32x16 mask, f32x16 a, f32x16 b) { return mask ? a : b; }
-inline i32x16 mask_and(i32x16 a, i32x16 b) { return a & b; }
-inline i32x16 mask_and_not(i32x16 a, i32x16 b) { return a & ~b; }
-inline i32x16 mask_or(i32x16 a, i32x16 b) { return a | b; }
 inline bool any(i32x16 mask) {
 #if defined(__AVX512F__)
   const __m512i m = reinterpret_cast<__m512i>(mask);

@@ -32,8 +32,11 @@ struct Splat2DGrad {
 // (the others hold an older stamp and stand for zero): that spares the blend's backward a
 // scattered write for every entry that blended nowhere (a third of them on real captures),
 // and the stamp shares its record's cache lines, where a separate flag array would not.
+// A record fills one cache line (44 bytes padded to 64): packed, most of them straddled two
+// lines, and each scattered write paid for both (the blend's backward at native real_thermos
+// size 40.7 → 37.7 ms, on lego400 9.6 → 8.6 ms; the projection's backward reads them no slower).
 struct OverlapGradients {
-  struct Record {
+  struct alignas(64) Record {  // one cache line
     Splat2DGrad grad;
     std::uint32_t frame = 0;  // the frame that wrote it
   };
