@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "splat/core/error.hpp"
+#include "splat/core/simd.hpp"
 
 namespace splat {
 namespace {
@@ -105,6 +106,12 @@ void require_shape(const GaussianModel& params, const GaussianModel& other, cons
                         std::to_string(params.sh_degree));
 }
 
+void require_size(const GaussianModel& params, const ShGradientFactors& factors) {
+  if (factors.size() != params.size())
+    throw ArgumentError("adam_step: the SH gradient's factors hold " + std::to_string(factors.size()) +
+                        " Gaussians, the model " + std::to_string(params.size()));
+}
+
 }  // namespace
 
 void AdamState::reset_like(const GaussianModel& model) {
@@ -117,9 +124,10 @@ void AdamState::reset_like(const GaussianModel& model) {
 
 void adam_step(GaussianModel& params, const GaussianModel& grads, AdamState& state,
                const GroupLearningRates& lr, const AdamSettings& settings,
-               const AdamGroupMask& active) {
+               const AdamGroupMask& active, const ShGradientFactors* sh_factors) {
   params.check_consistent();
   require_shape(params, grads, "the gradient");
+  if (sh_factors) require_size(params, *sh_factors);
   require_shape(params, state.first_moment, "the first moment");
   require_shape(params, state.second_moment, "the second moment");
 
@@ -153,28 +161,41 @@ void adam_step(GaussianModel& params, const GaussianModel& grads, AdamState& sta
   std::vector<float> sh_steps(sh.width, rest_step);  // per column of an SH row
   std::fill(sh_steps.begin(), sh_steps.begin() + std::min(kDcFloats, sh.width), dc_step);
 
+  // SH rows first .. last − 1, their gradient rows at `grad` (row `first` first).
+  auto update_sh_rows = [&](std::size_t first, std::size_t last, const float* grad) {
+    const std::size_t o = first * sh.width;
+    if (active.sh_dc && active.sh_rest) {
+      update_rows_by_column(sh.param + o, grad, sh.m + o, sh.v + o, last - first, sh.width, sh_steps.data(), c);
+    } else if (active.sh_dc || active.sh_rest) {
+      // Band 0 and the rest interleave row by row: two short runs per Gaussian.
+      for (std::size_t row = first; row < last; ++row) {
+        const std::size_t r = row * sh.width;
+        const float* g = grad + (row - first) * sh.width;
+        if (active.sh_dc) update_elements(sh.param + r, g, sh.m + r, sh.v + r, kDcFloats, dc_step, c);
+        if (active.sh_rest && rest_floats > 0)
+          update_elements(sh.param + r + kDcFloats, g + kDcFloats, sh.m + r + kDcFloats, sh.v + r + kDcFloats,
+                          rest_floats, rest_step, c);
+      }
+    }
+  };
+
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, params.size(), kGaussiansPerTask),
       [&](const tbb::blocked_range<std::size_t>& range) {
         const std::size_t first = range.begin(), last = range.end();
         for (const GroupStep& group : whole)
           if (group.active) group.arrays.update_rows(first, last, group.step_size, c);
-        if (active.sh_dc && active.sh_rest) {
-          const std::size_t o = first * sh.width;
-          update_rows_by_column(sh.param + o, sh.grad + o, sh.m + o, sh.v + o, last - first, sh.width,
-                                sh_steps.data(), c);
-        } else if (active.sh_dc || active.sh_rest) {
-          // Band 0 and the rest interleave row by row: two short runs per Gaussian.
-          for (std::size_t row = first; row < last; ++row) {
-            const std::size_t o = row * sh.width;
-            if (active.sh_dc)
-              update_elements(sh.param + o, sh.grad + o, sh.m + o, sh.v + o, kDcFloats,
-                              dc_step, c);
-            if (active.sh_rest && rest_floats > 0)
-              update_elements(sh.param + o + kDcFloats, sh.grad + o + kDcFloats,
-                              sh.m + o + kDcFloats, sh.v + o + kDcFloats, rest_floats,
-                              rest_step, c);
-          }
+        if (!active.sh_dc && !active.sh_rest) return;
+        if (!sh_factors) {
+          update_sh_rows(first, last, sh.grad + first * sh.width);
+          return;
+        }
+        // The rows formed from their factors, kLanes at a time, as the step reaches them.
+        std::vector<float> rows(simd::kLanes * sh.width);
+        for (std::size_t row = first; row < last; row += simd::kLanes) {
+          const std::size_t end = std::min(last, row + simd::kLanes);
+          sh_factors->expand(row, int(end - row), int(sh.width), rows.data());
+          update_sh_rows(row, end, rows.data());
         }
       },
       tbb::simple_partitioner());

@@ -11,6 +11,7 @@
 //   v ← β2·v + (1 − β2)·g·g
 //   p ← p − lr/(1 − β1ᵗ) · m / (sqrt(v)/sqrt(1 − β2ᵗ) + ε)
 #include "splat/gaussians/gaussian_model.hpp"
+#include "splat/gaussians/sh_gradient_factors.hpp"
 
 namespace splat {
 
@@ -62,8 +63,10 @@ struct AdamState {
 // otherwise ArgumentError. Parallel over Gaussians in fixed-size chunks; every element is
 // computed independently with the same instructions, so the result is bit-identical for any
 // thread count.
+// With `sh_factors`, the SH group's gradient is theirs (sh_gradient_factors.hpp: each row
+// formed as it is stepped, the same floats as the full rows) and grads.sh is not read.
 void adam_step(GaussianModel& params, const GaussianModel& grads, AdamState& state,
                const GroupLearningRates& lr, const AdamSettings& settings = {},
-               const AdamGroupMask& active = {});
+               const AdamGroupMask& active = {}, const ShGradientFactors* sh_factors = nullptr);
 
 }  // namespace splat

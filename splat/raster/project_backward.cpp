@@ -43,11 +43,12 @@ struct LaneSplatGrads {
 // project_backward.hpp describes, written out for kLanes term for term
 // (tests/raster/project_backward_lanes_test.cpp holds each lane to the scalar chain).
 // Writes the live lanes' rows (the caller has zeroed the rows of every lane but their SH
-// coefficients); returns false if none was live after all, having written nothing. Adds the
-// live lanes' pose gradient to `pose`, lane by lane.
+// coefficients), and every lane's SH gradient: its rows in `grads`, or its factors in
+// `sh_factors` when given (zero in lanes that are not live); returns false if none was live
+// after all, having written nothing. Adds the live lanes' pose gradient to `pose`, lane by lane.
 bool chain_lanes(const GaussianModel& model, std::size_t first, int lanes, std::uint32_t live,
                  const LaneSplatGrads& g, const BackwardView& cam, GaussianModel& grads,
-                 PosePart* pose) {
+                 ShGradientFactors* sh_factors, PosePart* pose) {
   const LaneGaussians gaussians(model, first, lanes);
   const LaneShape shape(gaussians, cam.view);
   const f32v xx = shape.xx, xy = shape.xy, yy = shape.yy;
@@ -92,15 +93,25 @@ bool chain_lanes(const GaussianModel& model, std::size_t first, int lanes, std::
       v_basis[k] += coeff[3 * k + c] * v_color[c];
     }
   }
-  // Every lane's SH row is written whole here (zero in lanes that are not live), so the
+  // Every lane's SH gradient is written whole here (zero in lanes that are not live), so the
   // largest gradient array is written once rather than cleared and then written.
   i32v live_lanes;
   for (int l = 0; l < kLanes; ++l) live_lanes[l] = -int((live >> l) & 1);
-  for (int j = 0; j < 3 * count; ++j) v_coeff[j] = live_lanes ? v_coeff[j] : f32v{};
-  simd::store_columns(v_coeff, 3 * count, (1u << lanes) - 1, v_coeffs);
-  if (3 * count < cam.coeffs_per_gaussian)  // bands above the active degree
-    for (int l = 0; l < lanes; ++l)
-      std::fill(v_coeffs[l] + 3 * count, v_coeffs[l] + cam.coeffs_per_gaussian, 0.0f);
+  if (sh_factors) {
+    for (int k = 0; k < 3; ++k) {
+      const f32v live_dir = live_lanes ? dir[k] : f32v{}, live_color = live_lanes ? v_color[k] : f32v{};
+      for (int l = 0; l < lanes; ++l) {
+        sh_factors->direction[k][first + std::size_t(l)] = live_dir[l];
+        sh_factors->color_grad[k][first + std::size_t(l)] = live_color[l];
+      }
+    }
+  } else {
+    for (int j = 0; j < 3 * count; ++j) v_coeff[j] = live_lanes ? v_coeff[j] : f32v{};
+    simd::store_columns(v_coeff, 3 * count, (1u << lanes) - 1, v_coeffs);
+    if (3 * count < cam.coeffs_per_gaussian)  // bands above the active degree
+      for (int l = 0; l < lanes; ++l)
+        std::fill(v_coeffs[l] + 3 * count, v_coeffs[l] + cam.coeffs_per_gaussian, 0.0f);
+  }
   f32v v_dir[3] = {};
   sh_basis_vjp_xyz(cam.degree, dir[0], dir[1], dir[2], v_basis, v_dir[0], v_dir[1], v_dir[2]);
   // dir = offset/|offset|: v_offset = (v_dir − dir (dir·v_dir)) / |offset|.
@@ -217,10 +228,12 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
                                 const TileBins& bins,
                                 const OverlapGradients& overlap,
                                 GaussianModel& grads, std::vector<float>& viewspace_grad_norm,
-                                std::vector<float>& blend_weight, CameraPoseGradient* camera_pose) {
+                                std::vector<float>& blend_weight, CameraPoseGradient* camera_pose,
+                                ShGradientFactors* sh_factors) {
   const std::size_t n = model.size();
   grads.sh_degree = model.sh_degree;
   grads.resize(n);
+  if (sh_factors) sh_factors->resize(n);
   viewspace_grad_norm.resize(n);
   blend_weight.resize(n);
   const int coeffs_per_gaussian = model.sh_coefficients() * 3;
@@ -232,6 +245,7 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
                          float(camera.height),
                          std::clamp(sh_degree, 0, model.sh_degree),
                          coeffs_per_gaussian};
+  if (sh_factors) sh_factors->degree = cam.degree;
 
   // Fixed blocks, not the scheduler's ranges: the pose gradient is summed per block, then
   // over the blocks in order, so that it does not depend on the thread count.
@@ -283,9 +297,11 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
         lane_grads.opacity[l] = g.opacity;
         for (int c = 0; c < 3; ++c) lane_grads.color[c][l] = g.color[c];
       }
-      if (live == 0 || !chain_lanes(model, first, lanes, live, lane_grads, cam, grads,
-                                    camera_pose ? &pose_parts[block] : nullptr))
-        std::memset(&grads.sh[first * coeffs_per_gaussian], 0, std::size_t(lanes) * coeffs_per_gaussian * sizeof(float));
+      if (live == 0 || !chain_lanes(model, first, lanes, live, lane_grads, cam, grads, sh_factors,
+                                    camera_pose ? &pose_parts[block] : nullptr)) {
+        if (sh_factors) sh_factors->clear(first, std::size_t(lanes));
+        else std::memset(&grads.sh[first * coeffs_per_gaussian], 0, std::size_t(lanes) * coeffs_per_gaussian * sizeof(float));
+      }
     }
   });
   if (camera_pose) {

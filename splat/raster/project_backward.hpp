@@ -5,6 +5,7 @@
 
 #include "splat/core/camera.hpp"
 #include "splat/gaussians/gaussian_model.hpp"
+#include "splat/gaussians/sh_gradient_factors.hpp"
 #include "splat/raster/bin_sort.hpp"
 #include "splat/raster/blend_backward.hpp"
 #include "splat/raster/project.hpp"
@@ -28,6 +29,8 @@ struct CameraPoseGradient {
 // `blend_weight[i]` receives Σ Tα over all pixels (the overlaps' blend_weight summed).
 // `camera_pose`, if given, receives ∂L/∂(the camera's pose) (camera_pose_vjp), summed over
 // the Gaussians in fixed blocks and fixed order, so it too is the same for any thread count.
+// `sh_factors`, if given, receives the SH coefficients' gradient in factored form
+// (sh_gradient_factors.hpp) and `grads.sh` is then not written (it keeps whatever it held).
 // The chain runs kLanes Gaussians at a time (lane_projection.hpp); the sum of each
 // Gaussian's tile records stays one Gaussian at a time, in its rectangle's order.
 void project_gaussians_backward(const GaussianModel& model, const Camera& camera, int sh_degree,
@@ -35,6 +38,7 @@ void project_gaussians_backward(const GaussianModel& model, const Camera& camera
                                 const OverlapGradients& overlap,
                                 GaussianModel& grads, std::vector<float>& viewspace_grad_norm,
                                 std::vector<float>& blend_weight,
-                                CameraPoseGradient* camera_pose = nullptr);
+                                CameraPoseGradient* camera_pose = nullptr,
+                                ShGradientFactors* sh_factors = nullptr);
 
 }  // namespace splat

@@ -62,7 +62,8 @@ void Rasterizer::backward(const GaussianModel& model, const Camera& camera,
   start = Clock::now();
   project_gaussians_backward(model, camera, settings.sh_degree, frame.bins,
                              overlap_grads_, grads.params, grads.viewspace_grad_norm,
-                             grads.blend_weight, grads.with_camera_pose ? &grads.camera_pose : nullptr);
+                             grads.blend_weight, grads.with_camera_pose ? &grads.camera_pose : nullptr,
+                             grads.sh_as_factors ? &grads.sh_factors : nullptr);
   grads.timings.project_backward_ms = ms_since(start);
 }
 

@@ -40,6 +40,11 @@ struct RasterGradients {
                                             // each Gaussian makes (pruning by contribution)
   bool with_camera_pose = false;            // set to also get ∂L/∂(the camera's pose):
   CameraPoseGradient camera_pose;           // (pose refinement)
+  // Set to get the SH coefficients' gradient as its two factors in `sh_factors`
+  // (sh_gradient_factors.hpp: 6 floats a Gaussian for 48), which Adam takes as they are;
+  // params.sh is then not written.
+  bool sh_as_factors = false;
+  ShGradientFactors sh_factors;
   BackwardTimings timings;                  // what the backward that wrote these took
 };
 

@@ -65,7 +65,9 @@ ReducedBatch BatchReduction::reduce(ViewStep& step) {
     for (const ViewStatistics& v : view_stats_)
       backward_stats_.push_back({v.viewspace_grad_norm, v.radii, v.blend_weight, v.width, v.height});
   }
-  return {*gradient, backward_stats_, mean, exchange};
+  const RasterGradients& view = step.gradients();
+  const ShGradientFactors* sh_factors = views_ == 1 && view.sh_as_factors ? &view.sh_factors : nullptr;
+  return {*gradient, backward_stats_, mean, exchange, sh_factors};
 }
 
 }  // namespace splat

@@ -22,6 +22,9 @@ struct ReducedBatch {
   std::span<const BackwardStats> views;  // every view's statistics, in batch order
   LossValue loss;                        // the mean of the views' losses
   ExchangeReport exchange;               // several ranks only
+  // A single view differentiated with its SH gradient in factored form: those factors, and
+  // gradient.sh is not to be read. Null otherwise.
+  const ShGradientFactors* sh_factors = nullptr;
 };
 
 class BatchReduction {

@@ -196,7 +196,7 @@ StepResult SplatTrainer::step() {
 
   start = Clock::now();
   const GroupLearningRates lr = learning_rates();
-  step_model(batch.gradient, result.density, lr);
+  step_model(batch, result.density, lr);
   if (corrections_.refines_poses_at(iteration))
     corrections_.step_pose(batch_views_.back(), recorded, view_step_.gradients().camera_pose,
                            schedule_iteration(iteration_ + 1));
@@ -229,6 +229,9 @@ Camera SplatTrainer::differentiate_views(int iteration, int resolution_divisor, 
   settings.render = render_settings();
   settings.ssim_weight = config_.ssim_weight;
   settings.camera_pose_gradient = corrections_.refines_poses_at(iteration);
+  // One view's SH gradient is rank one: Adam forms its rows from 6 floats a Gaussian. A
+  // batch sums several views' rows, which needs them whole.
+  settings.sh_gradient_factors = config_.batch == 1;
   // Over several ranks a non-finite loss shows in the batch's, which every rank sees.
   settings.stop_on_non_finite_loss = batch_.ranks() == 1;
   batch_.start(config_.batch);
@@ -249,7 +252,7 @@ Camera SplatTrainer::differentiate_views(int iteration, int resolution_divisor, 
   return recorded;
 }
 
-void SplatTrainer::step_model(const GaussianModel& gradient, const DensityStepReport& density,
+void SplatTrainer::step_model(const ReducedBatch& batch, const DensityStepReport& density,
                               const GroupLearningRates& lr) {
   // After densification every parameter array is new and has no gradient in the official
   // trainer, so its optimiser skips the step; after an opacity reset only the opacities do.
@@ -259,7 +262,7 @@ void SplatTrainer::step_model(const GaussianModel& gradient, const DensityStepRe
   AdamGroupMask active;
   active.opacity = !density.opacity_reset;
   if (far_steps_.active()) means_before_step_ = model_.means;
-  adam_step(model_, gradient, adam_, lr, adam_settings(), active);
+  adam_step(model_, batch.gradient, adam_, lr, adam_settings(), active, batch.sh_factors);
   if (far_steps_.active()) scale_far_steps(model_.means, means_before_step_, far_steps_);
 }
 

@@ -65,8 +65,9 @@ class SplatTrainer {
   const ValidationHoldout& validation() const { return holdout_; }
   int active_sh_degree() const { return active_sh_degree_; }
   const GaussianModel& model() const { return model_; }
-  // The gradient the last step gave Adam: its view's, or the mean of its batch's (with any
-  // regulariser the strategy added).
+  // The gradient the last step gave Adam: the mean of its batch's (with any regulariser the
+  // strategy added). A batch of one view gives Adam its SH gradient in factored form
+  // (sh_gradient_factors.hpp): then this model's SH rows are not that gradient.
   const GaussianModel& last_step_gradient() const { return *last_step_gradient_; }
   // The parameters as of the last check that found every group finite.
   const GaussianModel& last_good_model() const { return last_good_model_; }
@@ -129,7 +130,7 @@ class SplatTrainer {
   Camera differentiate_views(int iteration, int resolution_divisor, StepResult& result);
   // Adam on the model, skipped after density control changed the rows, its opacity group
   // skipped after an opacity reset; far content's steps scaled.
-  void step_model(const GaussianModel& gradient, const DensityStepReport& density, const GroupLearningRates& lr);
+  void step_model(const ReducedBatch& batch, const DensityStepReport& density, const GroupLearningRates& lr);
   // TrainingDiverged naming the first non-finite group: the cheap groups every step, the SH
   // coefficients (most of the data) every kLastGoodInterval iterations, when the parameters
   // are also kept as the last good ones.

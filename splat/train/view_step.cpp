@@ -30,6 +30,7 @@ ViewStepResult ViewStep::run(const GaussianModel& model, const Camera& camera, c
 
   start = Clock::now();
   grads_.with_camera_pose = settings.camera_pose_gradient;
+  grads_.sh_as_factors = settings.sh_gradient_factors;
   rasterizer_.backward(model, camera, settings.render, render_, v_image_, grads_);
   result.differentiated = true;
   result.timings.backward = ms_since(start);

@@ -22,6 +22,7 @@ struct ViewStepSettings {
   RenderSettings render;
   float ssim_weight = kDefaultSsimWeight;  // λ
   bool camera_pose_gradient = false;       // also ∂L/∂(the camera's pose)
+  bool sh_gradient_factors = false;        // the SH gradient as its factors (RasterGradients::sh_as_factors)
   // Skip the backward pass when the loss is not finite (the caller then stops the run). A
   // rank of a data-parallel step differentiates anyway: the ranks must all take part in the
   // exchange, which finds the batch's loss non-finite for all of them at once.

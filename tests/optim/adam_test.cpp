@@ -3,11 +3,13 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
 
 #include "splat/core/error.hpp"
+#include "splat/core/simd.hpp"
 #include "splat/optim/lr_schedule.hpp"
 #include "tests/test_support.hpp"
 
@@ -182,6 +184,53 @@ TEST(Adam, BothShGroupsTogetherStepBitForBitAsEachAlone) {
   EXPECT_NE(both.sh, start.sh);
 }
 
+TEST(Adam, ShGradientFactorsStepAsTheirRows) {
+  // Adam forms each SH row from its factors as it steps: the parameters and moments must be
+  // those the rows themselves give, for any active degree, a count that is not a multiple of
+  // the lanes or of Adam's tasks, and either SH group alone.
+  const GaussianModel start = test::random_model(4099, 3, 41);
+  std::mt19937 rng(43);
+  std::normal_distribution<float> normal(0.0f, 1.0f);
+  for (int degree : {0, 2, 3}) {
+    ShGradientFactors factors;
+    factors.degree = degree;
+    factors.resize(start.size());
+    for (std::size_t i = 0; i < start.size(); ++i) {
+      float d[3] = {normal(rng), normal(rng), normal(rng)};
+      const float length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      for (int k = 0; k < 3; ++k) {
+        factors.direction[k][i] = d[k] / length;
+        factors.color_grad[k][i] = i % 5 == 0 ? 0.0f : normal(rng);  // some without a gradient
+      }
+    }
+    GaussianModel rows = test::random_model(start.size(), 3, 44);
+    const int width = start.sh_coefficients() * 3;
+    for (std::size_t first = 0; first < start.size(); first += simd::kLanes)
+      factors.expand(first, int(std::min<std::size_t>(simd::kLanes, start.size() - first)), width,
+                     &rows.sh[first * std::size_t(width)]);
+    GaussianModel garbage = rows;
+    std::fill(garbage.sh.begin(), garbage.sh.end(), 1e3f);  // must not be read
+    for (const auto [dc, rest] : {std::pair{true, true}, std::pair{true, false}, std::pair{false, true}}) {
+      AdamGroupMask mask;
+      mask.sh_dc = dc;
+      mask.sh_rest = rest;
+      GaussianModel dense = start, factored = start;
+      AdamState dense_state, factored_state;
+      dense_state.reset_like(start);
+      factored_state.reset_like(start);
+      for (int i = 0; i < 3; ++i) {
+        adam_step(dense, rows, dense_state, distinct_rates(), {}, mask);
+        adam_step(factored, garbage, factored_state, distinct_rates(), {}, mask, &factors);
+      }
+      EXPECT_EQ(factored.sh, dense.sh) << degree;
+      EXPECT_EQ(factored_state.first_moment.sh, dense_state.first_moment.sh) << degree;
+      EXPECT_EQ(factored_state.second_moment.sh, dense_state.second_moment.sh) << degree;
+      EXPECT_EQ(factored.means, dense.means);
+      if (dc || degree > 0) EXPECT_NE(factored.sh, start.sh);  // else every stepped row is zero
+    }
+  }
+}
+
 TEST(Adam, RejectsMismatchedShapes) {
   GaussianModel params = test::random_model(3, 1, 1);
   AdamState state;
@@ -190,6 +239,9 @@ TEST(Adam, RejectsMismatchedShapes) {
   EXPECT_THROW(adam_step(params, test::random_model(3, 2, 2), state, {}), ArgumentError);
   AdamState empty;
   EXPECT_THROW(adam_step(params, params, empty, {}), ArgumentError);
+  ShGradientFactors factors;
+  factors.resize(2);
+  EXPECT_THROW(adam_step(params, params, state, {}, {}, {}, &factors), ArgumentError);
   EXPECT_EQ(state.step, 0);
 }
 

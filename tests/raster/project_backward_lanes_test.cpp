@@ -128,6 +128,44 @@ void expect_lanes_match_scalar(const GaussianModel& model, const Camera& camera,
   project_gaussians_backward(model, camera, degree, bins, overlap, lanes, norm, weight, &pose);
 
   const int coeffs_per_gaussian = model.sh_coefficients() * 3;
+  {
+    // The SH gradient as its factors: the same rows to the bit once formed, every other
+    // group the same, and the model's SH rows not written.
+    GaussianModel factored;
+    factored.sh_degree = model.sh_degree;
+    factored.resize(model.size());
+    std::fill(factored.sh.begin(), factored.sh.end(), 7.0f);
+    ShGradientFactors factors;
+    factors.resize(model.size());
+    for (int k = 0; k < 3; ++k) std::fill(factors.color_grad[k].begin(), factors.color_grad[k].end(), 7.0f);
+    std::vector<float> factored_norm, factored_weight;
+    CameraPoseGradient factored_pose;
+    project_gaussians_backward(model, camera, degree, bins, overlap, factored, factored_norm, factored_weight,
+                               &factored_pose, &factors);
+    EXPECT_EQ(factors.degree, degree);
+    EXPECT_EQ(factored.means, lanes.means);
+    EXPECT_EQ(factored.log_scales, lanes.log_scales);
+    EXPECT_EQ(factored.quats, lanes.quats);
+    EXPECT_EQ(factored.opacity_logits, lanes.opacity_logits);
+    EXPECT_EQ(factored_norm, norm);
+    EXPECT_EQ(factored_weight, weight);
+    EXPECT_EQ(factored_pose.rotation, pose.rotation);
+    EXPECT_EQ(factored_pose.translation, pose.translation);
+    EXPECT_TRUE(std::all_of(factored.sh.begin(), factored.sh.end(), [](float x) { return x == 7.0f; }));
+    std::vector<float> rows(simd::kLanes * std::size_t(coeffs_per_gaussian), 7.0f);
+    int mismatches = 0;
+    for (std::size_t first = 0; first < model.size(); first += simd::kLanes) {
+      const int count = int(std::min<std::size_t>(simd::kLanes, model.size() - first));
+      factors.expand(first, count, coeffs_per_gaussian, rows.data());
+      for (std::size_t e = 0; e < std::size_t(count * coeffs_per_gaussian); ++e) {
+        const float dense = lanes.sh[first * coeffs_per_gaussian + e];
+        // Equal as floats: bit for bit but for the sign of a zero (a Gaussian without a
+        // gradient), which Adam's step does not see.
+        mismatches += !(rows[e] == dense);
+      }
+    }
+    EXPECT_EQ(mismatches, 0);
+  }
   enum { kMeans, kLogScales, kQuats, kOpacity, kSh, kPose, kGroups };
   const char* names[kGroups] = {"means", "log-scales", "quats", "opacity", "sh", "pose"};
   GroupErrors errors[kGroups];

@@ -1,0 +1,45 @@
+#include "splat/gaussians/sh_gradient_factors.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+#include "splat/core/simd.hpp"
+#include "splat/core/spherical_harmonics.hpp"
+
+namespace splat {
+
+void ShGradientFactors::resize(std::size_t n) {
+  for (int k = 0; k < 3; ++k) {
+    direction[k].resize(n);
+    color_grad[k].resize(n);
+  }
+}
+
+void ShGradientFactors::clear(std::size_t first, std::size_t count) {
+  for (int k = 0; k < 3; ++k) {
+    std::fill_n(direction[k].begin() + std::ptrdiff_t(first), count, 0.0f);
+    std::fill_n(color_grad[k].begin() + std::ptrdiff_t(first), count, 0.0f);
+  }
+}
+
+void ShGradientFactors::expand(std::size_t first, int count, int width, float* rows) const {
+  using simd::f32v;
+  // The factors of kLanes rows, one row per lane (lanes past `count` zero).
+  f32v d[3] = {}, g[3] = {};
+  for (int k = 0; k < 3; ++k) {
+    std::memcpy(&d[k], &direction[k][first], std::size_t(count) * sizeof(float));
+    std::memcpy(&g[k], &color_grad[k][first], std::size_t(count) * sizeof(float));
+  }
+  f32v basis[16];
+  sh_basis_xyz(degree, d[0], d[1], d[2], basis);
+  const int coefficients = (degree + 1) * (degree + 1);
+  f32v columns[3 * 16];
+  for (int k = 0; k < coefficients; ++k)
+    for (int c = 0; c < 3; ++c) columns[3 * k + c] = basis[k] * g[c];
+  float* row[simd::kLanes];
+  for (int l = 0; l < simd::kLanes; ++l) row[l] = rows + std::size_t(std::min(l, count - 1)) * std::size_t(width);
+  simd::store_columns(columns, 3 * coefficients, (1u << count) - 1, row);
+  for (int l = 0; l < count; ++l) std::fill(row[l] + 3 * coefficients, row[l] + width, 0.0f);
+}
+
+}  // namespace splat
