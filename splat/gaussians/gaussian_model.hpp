@@ -24,6 +24,8 @@ constexpr int kMaxShDegree = 3;
 constexpr std::size_t kMaxGaussiansInAFile = std::size_t(1) << 24;
 // Number of SH coefficients per colour channel for a degree: (degree + 1)^2.
 constexpr int sh_coefficient_count(int degree) { return (degree + 1) * (degree + 1); }
+// The most SH floats one Gaussian holds (degree 3, RGB).
+constexpr int kMaxShFloats = 3 * sh_coefficient_count(kMaxShDegree);
 
 struct GaussianModel {
   int sh_degree = 0;                     // 0..3

@@ -5,6 +5,7 @@
 
 #include "splat/core/simd.hpp"
 #include "splat/core/spherical_harmonics.hpp"
+#include "splat/gaussians/gaussian_model.hpp"
 
 namespace splat {
 
@@ -22,6 +23,21 @@ void ShGradientFactors::clear(std::size_t first, std::size_t count) {
   }
 }
 
+void store_sh_gradient_rows(int degree, const simd::f32v basis[16], const simd::f32v color_grad[3],
+                            simd::i32v live, std::uint32_t lanes, int width, float* const rows[simd::kLanes]) {
+  using simd::f32v;
+  const int coefficients = (degree + 1) * (degree + 1);
+  f32v columns[kMaxShFloats];
+  for (int k = 0; k < coefficients; ++k)
+    for (int c = 0; c < 3; ++c) columns[3 * k + c] = live ? basis[k] * color_grad[c] : f32v{};
+  simd::store_columns(columns, 3 * coefficients, lanes, rows);
+  if (3 * coefficients < width)  // bands above the active degree
+    for (std::uint32_t todo = lanes; todo != 0; todo &= todo - 1) {
+      float* row = rows[__builtin_ctz(todo)];
+      std::fill(row + 3 * coefficients, row + width, 0.0f);
+    }
+}
+
 void ShGradientFactors::expand(std::size_t first, int count, int width, float* rows) const {
   using simd::f32v;
   // The factors of kLanes rows, one row per lane (lanes past `count` zero).
@@ -32,14 +48,10 @@ void ShGradientFactors::expand(std::size_t first, int count, int width, float* r
   }
   f32v basis[16];
   sh_basis_xyz(degree, d[0], d[1], d[2], basis);
-  const int coefficients = (degree + 1) * (degree + 1);
-  f32v columns[3 * 16];
-  for (int k = 0; k < coefficients; ++k)
-    for (int c = 0; c < 3; ++c) columns[3 * k + c] = basis[k] * g[c];
   float* row[simd::kLanes];
   for (int l = 0; l < simd::kLanes; ++l) row[l] = rows + std::size_t(std::min(l, count - 1)) * std::size_t(width);
-  simd::store_columns(columns, 3 * coefficients, (1u << count) - 1, row);
-  for (int l = 0; l < count; ++l) std::fill(row[l] + 3 * coefficients, row[l] + width, 0.0f);
+  // Every lane live: a lane without a gradient has zero factors, whose row is zero already.
+  store_sh_gradient_rows(degree, basis, g, simd::i32v{} - 1, (1u << count) - 1, width, row);
 }
 
 }  // namespace splat

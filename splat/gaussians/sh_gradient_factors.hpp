@@ -10,9 +10,21 @@
 // batches keep the full rows (RasterGradients::sh_as_factors).
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
+#include "splat/core/simd.hpp"
+
 namespace splat {
+
+// The SH gradient rows of kLanes Gaussians, one per lane, from their factors: element
+// (k, ch) of lane l's row is basis[k][l] · color_grad[ch][l] where `live` holds lane l, and
+// zero where it does not (its basis may be NaN: a Gaussian at the camera centre), as are the
+// bands above `degree` up to `width` floats. Writes the lanes set in `lanes` to rows[l]. The
+// one place both the projection's backward (full rows) and ShGradientFactors::expand form
+// them, so the two give the same rows to the bit.
+void store_sh_gradient_rows(int degree, const simd::f32v basis[16], const simd::f32v color_grad[3],
+                            simd::i32v live, std::uint32_t lanes, int width, float* const rows[simd::kLanes]);
 
 struct ShGradientFactors {
   int degree = 0;  // the view's active SH degree: rows are zero above it

@@ -191,11 +191,11 @@ void adam_step(GaussianModel& params, const GaussianModel& grads, AdamState& sta
           return;
         }
         // The rows formed from their factors, kLanes at a time, as the step reaches them.
-        std::vector<float> rows(simd::kLanes * sh.width);
+        alignas(64) float rows[simd::kLanes * kMaxShFloats];
         for (std::size_t row = first; row < last; row += simd::kLanes) {
           const std::size_t end = std::min(last, row + simd::kLanes);
-          sh_factors->expand(row, int(end - row), int(sh.width), rows.data());
-          update_sh_rows(row, end, rows.data());
+          sh_factors->expand(row, int(end - row), int(sh.width), rows);
+          update_sh_rows(row, end, rows);
         }
       },
       tbb::simple_partitioner());

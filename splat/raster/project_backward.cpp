@@ -78,7 +78,7 @@ bool chain_lanes(const GaussianModel& model, std::size_t first, int lanes, std::
     coeffs[l] = &model.sh[i * cam.coeffs_per_gaussian];
     v_coeffs[l] = &grads.sh[i * cam.coeffs_per_gaussian];
   }
-  f32v coeff[3 * 16], v_coeff[3 * 16];
+  f32v coeff[3 * 16];
   simd::load_columns(coeffs, 3 * count, coeff);
   f32v raw_color[3] = {};
   for (int k = 0; k < count; ++k)
@@ -88,10 +88,7 @@ bool chain_lanes(const GaussianModel& model, std::size_t first, int lanes, std::
   f32v v_basis[16];
   for (int k = 0; k < count; ++k) {
     v_basis[k] = f32v{};
-    for (int c = 0; c < 3; ++c) {
-      v_coeff[3 * k + c] = basis[k] * v_color[c];
-      v_basis[k] += coeff[3 * k + c] * v_color[c];
-    }
+    for (int c = 0; c < 3; ++c) v_basis[k] += coeff[3 * k + c] * v_color[c];
   }
   // Every lane's SH gradient is written whole here (zero in lanes that are not live), so the
   // largest gradient array is written once rather than cleared and then written.
@@ -106,11 +103,8 @@ bool chain_lanes(const GaussianModel& model, std::size_t first, int lanes, std::
       }
     }
   } else {
-    for (int j = 0; j < 3 * count; ++j) v_coeff[j] = live_lanes ? v_coeff[j] : f32v{};
-    simd::store_columns(v_coeff, 3 * count, (1u << lanes) - 1, v_coeffs);
-    if (3 * count < cam.coeffs_per_gaussian)  // bands above the active degree
-      for (int l = 0; l < lanes; ++l)
-        std::fill(v_coeffs[l] + 3 * count, v_coeffs[l] + cam.coeffs_per_gaussian, 0.0f);
+    store_sh_gradient_rows(cam.degree, basis, v_color, live_lanes, (1u << lanes) - 1, cam.coeffs_per_gaussian,
+                           v_coeffs);
   }
   f32v v_dir[3] = {};
   sh_basis_vjp_xyz(cam.degree, dir[0], dir[1], dir[2], v_basis, v_dir[0], v_dir[1], v_dir[2]);

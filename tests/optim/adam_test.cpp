@@ -210,7 +210,7 @@ TEST(Adam, ShGradientFactorsStepAsTheirRows) {
                      &rows.sh[first * std::size_t(width)]);
     GaussianModel garbage = rows;
     std::fill(garbage.sh.begin(), garbage.sh.end(), 1e3f);  // must not be read
-    for (const auto [dc, rest] : {std::pair{true, true}, std::pair{true, false}, std::pair{false, true}}) {
+    for (const auto& [dc, rest] : {std::pair{true, true}, std::pair{true, false}, std::pair{false, true}}) {
       AdamGroupMask mask;
       mask.sh_dc = dc;
       mask.sh_rest = rest;
@@ -226,7 +226,9 @@ TEST(Adam, ShGradientFactorsStepAsTheirRows) {
       EXPECT_EQ(factored_state.first_moment.sh, dense_state.first_moment.sh) << degree;
       EXPECT_EQ(factored_state.second_moment.sh, dense_state.second_moment.sh) << degree;
       EXPECT_EQ(factored.means, dense.means);
-      if (dc || degree > 0) EXPECT_NE(factored.sh, start.sh);  // else every stepped row is zero
+      if (dc || degree > 0) {
+        EXPECT_NE(factored.sh, start.sh);  // else every stepped row is zero
+      }
     }
   }
 }
