@@ -26,7 +26,7 @@ void ShGradientFactors::clear(std::size_t first, std::size_t count) {
 void store_sh_gradient_rows(int degree, const simd::f32v basis[16], const simd::f32v color_grad[3],
                             simd::i32v live, std::uint32_t lanes, int width, float* const rows[simd::kLanes]) {
   using simd::f32v;
-  const int coefficients = (degree + 1) * (degree + 1);
+  const int coefficients = sh_coefficient_count(degree);
   f32v columns[kMaxShFloats];
   for (int k = 0; k < coefficients; ++k)
     for (int c = 0; c < 3; ++c) columns[3 * k + c] = live ? basis[k] * color_grad[c] : f32v{};

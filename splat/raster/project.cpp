@@ -28,7 +28,7 @@ void sh_colors(const GaussianModel& model, std::size_t first, int lanes, int deg
   const float* coeffs[kLanes];
   for (int l = 0; l < kLanes; ++l) coeffs[l] = &model.sh[(first + std::size_t(std::min(l, lanes - 1))) * stride];
   const int count = (degree + 1) * (degree + 1);
-  f32v coeff[3 * 16];
+  f32v coeff[kMaxShFloats];
   simd::load_columns(coeffs, 3 * count, coeff);
   f32v sum[3] = {};
   for (int k = 0; k < count; ++k)

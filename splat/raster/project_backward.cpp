@@ -78,7 +78,7 @@ bool chain_lanes(const GaussianModel& model, std::size_t first, int lanes, std::
     coeffs[l] = &model.sh[i * cam.coeffs_per_gaussian];
     v_coeffs[l] = &grads.sh[i * cam.coeffs_per_gaussian];
   }
-  f32v coeff[3 * 16];
+  f32v coeff[kMaxShFloats];
   simd::load_columns(coeffs, 3 * count, coeff);
   f32v raw_color[3] = {};
   for (int k = 0; k < count; ++k)
