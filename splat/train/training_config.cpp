@@ -147,9 +147,9 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
     config.position_lr_max_steps = kLength;
     // The SH, opacity, scale and rotation rates stay constant, as in the official recipe.
     // Decayed to a tenth over the second half, they changed nothing measurable at 42,000
-    // iterations (37.12 against 37.11 dB) and held back every shorter run: without the decay
+    // iterations (37.12 against 37.11 dB) and held back shorter runs: without the decay
     // lego400 gains 0.5 dB at --max-seconds 120 and 0.1 at 900, shiny 0.6 at 7,000
-    // iterations (bench/HISTORY.md, issue 39's thirteenth session).
+    // iterations; few_views, 8 views, loses 0.1 (bench/HISTORY.md, issue 39's thirteenth session).
     CompactSettings& c = config.compact;
     // The first fifth trains at reduced size, the size growing with the share of the images'
     // spectrum it holds (DashGaussian's schedule, resolution_schedule.hpp), at half size or
