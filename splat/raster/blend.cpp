@@ -97,7 +97,6 @@ struct TileBatch {
   int size = 0;
   const Splat2D* splat[kBatch];
   std::int32_t position[kBatch];            // list position + 1 (contributor_count)
-  std::uint32_t chunks[kBatch];             // per entry: the chunks it may draw in
   std::uint32_t blended_chunks[kBatch];     // per entry: the chunks where it blended a pixel
   std::uint64_t entries[kChunksPerTile];    // per chunk: the entries that may draw in it
   bool reaches[kBatch];                     // (counting only) draws in some pixel
@@ -106,21 +105,8 @@ struct TileBatch {
   ColumnExponent column[kBatch][kChunksPerRow];
 };
 
-// The chunks of one splat: bit (row · kChunksPerRow + column) for each row and chunk column
-// of the tile it may draw in.
-std::uint32_t chunks_to_walk(const Splat2D& s, int x0, int y0) {
-  const Footprint box = footprint_in_tile(s, x0, y0);
-  if (box.empty()) return 0;
-  static_assert(kChunksPerRow == 2, "rows of two chunk columns are interleaved below");
-  const SplatReach reach(s);
-  std::uint32_t chunks = 0;
-  for (int c = box.chunk_lo; c <= box.chunk_hi; ++c)
-    chunks |= spread_to_even_bits(rows_to_walk(s, reach, x0, y0, c, box)) << c;
-  return chunks;
-}
-
-// Sets up entries [k, k + batch.size) of the tile's list: each entry's chunks, then each
-// chunk's entries (a bit transpose), leaving out the chunks not in `live`.
+// Sets up entries [k, k + batch.size) of the tile's list: each entry's chunks (eight entries
+// at a time), then each chunk's entries (a bit transpose), leaving out the chunks not in `live`.
 void fill_batch(const ProjectedGaussians& projected, const TileBins& bins, std::uint32_t k,
                 std::uint32_t list_begin, int x0, int y0, std::uint32_t live, TileBatch& batch) {
   for (int j = 0; j < batch.size; ++j) {
@@ -130,15 +116,13 @@ void fill_batch(const ProjectedGaussians& projected, const TileBins& bins, std::
     const Splat2D& s = projected.splats[bins.gaussian_ids[k + j]];
     batch.splat[j] = &s;
     batch.position[j] = std::int32_t(k + j - list_begin + 1);
-    batch.chunks[j] = chunks_to_walk(s, x0, y0) & live;
     batch.blended_chunks[j] = 0;
     for (int c = 0; c < kChunksPerRow; ++c) batch.column[j][c] = ColumnExponent(s, column_dx(s, x0, c));
   }
-  for (int j = batch.size; j < (batch.size + kLanes - 1) / kLanes * kLanes; ++j) batch.chunks[j] = 0;
   std::fill(std::begin(batch.entries), std::end(batch.entries), 0);
   for (int j0 = 0; j0 < batch.size; j0 += kLanes) {
-    i32v chunks;
-    std::memcpy(&chunks, &batch.chunks[j0], sizeof(chunks));
+    const i32v chunks = chunks_to_walk(&batch.splat[j0], std::min(kLanes, batch.size - j0), x0, y0) &
+                        std::int32_t(live);
     for (std::uint32_t todo = live; todo != 0; todo &= todo - 1) {
       const int chunk = __builtin_ctz(todo);
       const i32v has = (chunks << (31 - chunk)) < 0;  // bit `chunk` moved to the sign

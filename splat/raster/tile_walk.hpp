@@ -5,9 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#if defined(__BMI2__)
-#include <immintrin.h>
-#endif
 
 #include "splat/core/simd.hpp"
 #include "splat/raster/project.hpp"
@@ -118,19 +115,46 @@ auto draws(F exponent2, F alpha) {
   return (exponent2 <= 0.0f) & (alpha >= kMinAlpha);
 }
 
-// The rows of `box` in which chunk `column` of the tile at (x0, y0) may draw, as a bit mask
-// (bit r for row y0 + r). Every row of the tile is tested at once, one per lane.
-inline std::uint32_t rows_to_walk(const Splat2D& s, const SplatReach& reach, int x0, int y0,
-                                  int column, const Footprint& box) {
-  const float dx_hi = s.mean_x - float(x0 + column * kLanes), dx_lo = dx_hi - float(kLanes - 1);
-  std::uint32_t rows = 0;
-  for (int r0 = 0; r0 < kTileSize; r0 += kLanes) {
-    const f32v y = lane_index() + float(y0 + r0);
-    const i32v walk = reach.rows_may_draw(s.mean_y - y, dx_lo, dx_hi) & (y >= float(box.row_lo)) &
-                      (y <= float(box.row_hi));
-    rows |= simd::bits(walk) << r0;
+// Bit i of each lane (i < 16) to bit 2i: a chunk column's row masks to their chunks' bits.
+inline simd::i32v spread_to_even_bits(simd::i32v bits) {
+  bits = (bits | (bits << 8)) & 0x00ff00ff;
+  bits = (bits | (bits << 4)) & 0x0f0f0f0f;
+  bits = (bits | (bits << 2)) & 0x33333333;
+  bits = (bits | (bits << 1)) & 0x55555555;
+  return bits;
+}
+
+// The chunks of the tile at (x0, y0) in which each of `count` splats may draw (one splat per
+// lane; lanes from `count` on are 0): bit (row · kChunksPerRow + column) for each row and chunk
+// column inside both the splat's α ≥ kMinAlpha box and its reach (splat_reach.hpp).
+inline i32v chunks_to_walk(const Splat2D* const splats[kLanes], int count, int x0, int y0) {
+  static_assert(kChunksPerRow == 2, "rows of two chunk columns are interleaved below");
+  const SplatLanes s(splats, count);
+  const float left = float(x0), right = float(x0 + kTileSize - 1);
+  const float top = float(y0), bottom = float(y0 + kTileSize - 1);
+  // The box, as footprint_in_tile (NaN: empty, as the comparisons are false).
+  const f32v row_lo = simd::ceil(s.mean_y - s.extent_y), row_hi = simd::floor(s.mean_y + s.extent_y);
+  const f32v col_lo = simd::ceil(s.mean_x - s.extent_x), col_hi = simd::floor(s.mean_x + s.extent_x);
+  const i32v in_box = (row_lo <= bottom) & (row_hi >= top) & (row_lo <= row_hi) & (col_lo <= right) &
+                      (col_hi >= left) & (col_lo <= col_hi);
+  const RowSpan box{simd::max(row_lo, simd::broadcast(top)), simd::min(row_hi, simd::broadcast(bottom))};
+  const ReachLanes reach(s, left, top);
+  i32v lanes;
+  for (int l = 0; l < kLanes; ++l) lanes[l] = l;
+  i32v chunks = (lanes < count) & in_box;
+  i32v walk{};
+  for (int column = 0; column < kChunksPerRow; ++column) {
+    const float first_x = float(x0 + column * kLanes), last_x = first_x + float(kLanes - 1);
+    const RowSpan rows = reach.column_rows(s.mean_x - last_x, s.mean_x - first_x, box);
+    const i32v in_column = (col_lo <= last_x) & (col_hi >= first_x) & (rows.first <= rows.last);
+    // Rows relative to the tile, clamped into it (they are inside where the span is not empty).
+    const f32v last_row = f32v{} + float(kTileSize - 1);
+    const i32v first = __builtin_convertvector(simd::min(simd::max(rows.first - top, f32v{}), last_row), i32v);
+    const i32v last = __builtin_convertvector(simd::min(simd::max(rows.last - top, f32v{}), last_row), i32v);
+    const i32v row_bits = in_column ? ((i32v{} + 2) << last) - ((i32v{} + 1) << first) : i32v{};
+    walk |= spread_to_even_bits(row_bits) << column;
   }
-  return rows;
+  return chunks & walk;
 }
 
 // Tile lists are in depth order, not memory order: the walks fetch splat records some
@@ -139,20 +163,6 @@ inline void prefetch_splat(const Splat2D& s) {
   const char* bytes = reinterpret_cast<const char*>(&s);
   __builtin_prefetch(bytes);
   __builtin_prefetch(bytes + sizeof(Splat2D) - 1);
-}
-
-// Bit i of `bits` (i < 16) to bit 2i: a chunk column's row mask to its chunks' bits.
-inline std::uint32_t spread_to_even_bits(std::uint32_t bits) {
-#if defined(__BMI2__)
-  return _pdep_u32(bits, 0x55555555u);
-#else
-  bits &= 0xffffu;
-  bits = (bits | (bits << 8)) & 0x00ff00ffu;
-  bits = (bits | (bits << 4)) & 0x0f0f0f0fu;
-  bits = (bits | (bits << 2)) & 0x33333333u;
-  bits = (bits | (bits << 1)) & 0x55555555u;
-  return bits;
-#endif
 }
 
 }  // namespace splat::tile_walk

@@ -2,8 +2,11 @@
 // draws, and the blend's work counts agree with a brute-force count.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <random>
+#include <vector>
 
 #include "splat/raster/rasterizer.hpp"
 #include "splat/raster/tile_walk.hpp"
@@ -38,8 +41,37 @@ bool chunk_draws(const Splat2D& s, int x0, int column, int y) {
   return simd::any(draws(exponent2, alpha_of(simd::broadcast(s.opacity), exponent2)));
 }
 
-TEST(TileWalk, RowsLeftOutNeverHoldAPixelThatDraws) {
-  std::size_t rows_checked = 0, rows_left_out = 0, rows_drawing = 0;
+// Walks every chunk of `splats` (up to kLanes of them) in the tile at (x0, y0) and checks
+// that each chunk left out holds no pixel that draws. Returns {chunks checked, chunks
+// drawing, chunks left out}.
+struct WalkTally {
+  std::size_t checked = 0, drawing = 0, left_out = 0;
+};
+
+void check_walk(const Splat2D* const splats[kLanes], int count, int x0, int y0, WalkTally& tally) {
+  const i32v walked = chunks_to_walk(splats, count, x0, y0);
+  for (int l = 0; l < kLanes; ++l) {
+    if (l >= count) {
+      ASSERT_EQ(walked[l], 0) << "lane " << l << " beyond the " << count << " splats";
+      continue;
+    }
+    for (int chunk = 0; chunk < kChunksPerTile; ++chunk) {
+      const int y = y0 + chunk / kChunksPerRow, column = chunk % kChunksPerRow;
+      const bool drawn = chunk_draws(*splats[l], x0, column, y);
+      ++tally.checked;
+      tally.drawing += drawn;
+      if (std::uint32_t(walked[l]) >> chunk & 1) continue;
+      ++tally.left_out;
+      const Splat2D& s = *splats[l];
+      ASSERT_FALSE(drawn) << "tile (" << x0 << ", " << y0 << ") chunk " << chunk << ": splat at (" << s.mean_x
+                          << ", " << s.mean_y << ") conic " << s.conic_a << " " << s.conic_b << " "
+                          << s.conic_c << " q_max " << s.q_max;
+    }
+  }
+}
+
+TEST(TileWalk, ChunksLeftOutNeverHoldAPixelThatDraws) {
+  WalkTally tally;
   for (unsigned seed = 1; seed <= 3; ++seed) {
     Frame f;
     render_random(f, seed, 160, 128, 400);
@@ -47,28 +79,64 @@ TEST(TileWalk, RowsLeftOutNeverHoldAPixelThatDraws) {
     const TileBins& bins = f.result.frame.bins;
     for (int tile = 0; tile < grid.count(); ++tile) {
       const int x0 = (tile % grid.tiles_x) * kTileSize, y0 = (tile / grid.tiles_x) * kTileSize;
-      for (std::uint32_t k = bins.tile_start[tile]; k < bins.tile_start[tile + 1]; ++k) {
-        const Splat2D& s = f.result.frame.projected.splats[bins.gaussian_ids[k]];
-        const Footprint box = footprint_in_tile(s, x0, y0);
-        if (box.empty()) continue;
-        const SplatReach reach(s);
-        for (int c = box.chunk_lo; c <= box.chunk_hi; ++c) {
-          const std::uint32_t walked = rows_to_walk(s, reach, x0, y0, c, box);
-          for (int y = box.row_lo; y <= box.row_hi; ++y) {
-            const bool drawn = chunk_draws(s, x0, c, y);
-            ++rows_checked;
-            rows_drawing += drawn;
-            if (walked >> (y - y0) & 1) continue;
-            ++rows_left_out;
-            ASSERT_FALSE(drawn) << "seed " << seed << " tile " << tile << " entry " << k << " row " << y;
-          }
-        }
+      for (std::uint32_t k = bins.tile_start[tile]; k < bins.tile_start[tile + 1]; k += kLanes) {
+        const Splat2D* splats[kLanes];
+        const int count = int(std::min<std::uint32_t>(kLanes, bins.tile_start[tile + 1] - k));
+        for (int l = 0; l < count; ++l) splats[l] = &f.result.frame.projected.splats[bins.gaussian_ids[k + l]];
+        check_walk(splats, count, x0, y0, tally);
+        if (HasFatalFailure()) return;
       }
     }
   }
-  // The scenes must exercise both sides: rows that draw, and rows the trim removes.
-  EXPECT_GT(rows_drawing, rows_checked / 4);
-  EXPECT_GT(rows_left_out, rows_checked / 50);
+  // The scenes must exercise both sides: chunks that draw, and chunks the walk leaves out.
+  EXPECT_GT(tally.drawing, tally.checked / 10);
+  EXPECT_GT(tally.left_out, tally.checked / 2);
+}
+
+// Splats made directly, not through a projection: ellipses from round to 10⁴ : 1 before the
+// projection's dilation, at every angle, from a pixel to a thousand pixels long, centred anywhere in and around the tile and
+// far from the origin (where mean_y's own rounding is largest), at opacities from the
+// threshold up, and degenerate ones. None may lose a chunk that draws.
+TEST(TileWalk, ExtremeSplatsNeverLoseAChunkThatDraws) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  WalkTally tally;
+  std::vector<Splat2D> splats(kLanes);
+  for (int round = 0; round < 20000; ++round) {
+    const int x0 = 16 * int(unit(rng) * 4000), y0 = 16 * int(unit(rng) * 4000);
+    for (Splat2D& s : splats) {
+      const float major = std::exp(unit(rng) * std::log(1000.0f));          // σ, pixels
+      const float minor = major / std::exp(unit(rng) * std::log(1e4f));
+      const float angle = unit(rng) * 3.14159265f, cos_t = std::cos(angle), sin_t = std::sin(angle);
+      // Σ' = R diag(major², minor²) Rᵀ + 0.3 I (the projection's dilation, which keeps every
+      // splat at least half a pixel wide); the conic is its inverse.
+      const double xx = double(major) * major * cos_t * cos_t + double(minor) * minor * sin_t * sin_t + 0.3;
+      const double yy = double(major) * major * sin_t * sin_t + double(minor) * minor * cos_t * cos_t + 0.3;
+      const double xy = (double(major) * major - double(minor) * minor) * cos_t * sin_t;
+      const double det = xx * yy - xy * xy;
+      s = Splat2D{};
+      s.conic_a = float(yy / det), s.conic_b = float(-xy / det), s.conic_c = float(xx / det);
+      s.opacity = kMinAlpha * std::exp(unit(rng) * std::log(kMaxAlpha / kMinAlpha));
+      s.q_max = 2.0f * std::log(s.opacity / kMinAlpha);
+      const float reach = std::sqrt(s.q_max * float(std::max(xx, yy)));
+      s.mean_x = float(x0) + 8.0f + (unit(rng) - 0.5f) * 2.0f * (reach + 10.0f);
+      s.mean_y = float(y0) + 8.0f + (unit(rng) - 0.5f) * 2.0f * (reach + 10.0f);
+      // The box is the projection's to get right; here it is generous, so that the reach is
+      // what the test sees.
+      s.extent_x = std::sqrt(s.q_max * float(xx)) * 1.01f + 1.0f;
+      s.extent_y = std::sqrt(s.q_max * float(yy)) * 1.01f + 1.0f;
+      if (unit(rng) < 0.01f) {  // degenerate: the box (here the whole tile) is all there is
+        s.conic_a = unit(rng) < 0.5f ? 0.0f : -s.conic_a;
+        s.extent_x = s.extent_y = 1e6f;
+      }
+    }
+    const Splat2D* pointers[kLanes];
+    for (int l = 0; l < kLanes; ++l) pointers[l] = &splats[l];
+    check_walk(pointers, 1 + round % kLanes, x0, y0, tally);
+    if (HasFatalFailure()) return;
+  }
+  EXPECT_GT(tally.drawing, tally.checked / 20);
+  EXPECT_GT(tally.left_out, tally.checked / 4);
 }
 
 TEST(TileWalk, BlendWorkCountsMatchABruteForceCount) {
