@@ -33,17 +33,24 @@ struct SplatLanes {
   simd::f32v mean_x, mean_y, conic_a, conic_b, conic_c, extent_x, extent_y, q_max;
 
   // splats[l] for l < count; the other lanes repeat splats[0] (their result is not used).
+  // The record's first and last eight floats, each an 8 × 8 transpose: filled lane by lane,
+  // a vector waits on a store-forwarding stall when it is read back.
   SplatLanes(const Splat2D* const splats[simd::kLanes], int count) {
-    const float* rows[simd::kLanes];
-    for (int l = 0; l < simd::kLanes; ++l) rows[l] = &(l < count ? splats[l] : splats[0])->mean_x;
-    simd::f32v head[simd::kLanes];  // the record's first eight floats: mean … colour
-    simd::load_columns(rows, simd::kLanes, head);
-    mean_x = head[0], mean_y = head[1], conic_a = head[2], conic_b = head[3], conic_c = head[4];
+    static_assert(sizeof(Splat2D) == 13 * sizeof(float) && offsetof(Splat2D, conic_c) == 4 * sizeof(float) &&
+                      offsetof(Splat2D, extent_x) == 10 * sizeof(float),
+                  "the head holds mean and conic, the tail extent and q_max");
+    constexpr int kTail = 5;  // the tail: opacity, colour, depth, extent, q_max
+    const float* head_rows[simd::kLanes];
+    const float* tail_rows[simd::kLanes];
     for (int l = 0; l < simd::kLanes; ++l) {
-      const Splat2D& s = *(l < count ? splats[l] : splats[0]);
-      extent_x[l] = s.extent_x, extent_y[l] = s.extent_y, q_max[l] = s.q_max;
+      head_rows[l] = &(l < count ? splats[l] : splats[0])->mean_x;
+      tail_rows[l] = head_rows[l] + kTail;
     }
-    static_assert(offsetof(Splat2D, conic_c) == 4 * sizeof(float), "the head holds mean and conic");
+    simd::f32v head[simd::kLanes], tail[simd::kLanes];
+    simd::load_columns(head_rows, simd::kLanes, head);
+    simd::load_columns(tail_rows, simd::kLanes, tail);
+    mean_x = head[0], mean_y = head[1], conic_a = head[2], conic_b = head[3], conic_c = head[4];
+    extent_x = tail[10 - kTail], extent_y = tail[11 - kTail], q_max = tail[12 - kTail];
   }
 };
 
