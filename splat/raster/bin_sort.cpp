@@ -66,7 +66,7 @@ void radix_sort_by_high_word(std::vector<std::uint64_t>& items, std::vector<std:
   }
 }
 
-void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, TileBins& bins) {
+void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, bool for_backward, TileBins& bins) {
   const std::size_t n = projected.splats.size();
   const std::size_t tile_count = std::size_t(grid.count());
 
@@ -113,16 +113,16 @@ void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, Til
   // 2. The rectangles and first slots in depth order, gathered once: the passes below then
   //    read them in order instead of missing the cache on every Gaussian twice.
   bins.depth_rects.resize(order.size());
-  bins.depth_overlap_start.resize(order.size());
+  bins.depth_overlap_start.resize(for_backward ? order.size() : 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 4096), [&](const auto& range) {
     constexpr std::size_t kPrefetchDistance = 16;
     for (std::size_t k = range.begin(); k != range.end(); ++k) {
       if (k + kPrefetchDistance < order.size()) {
         __builtin_prefetch(&projected.tiles[order[k + kPrefetchDistance]]);
-        __builtin_prefetch(&bins.overlap_start[order[k + kPrefetchDistance]]);
+        if (for_backward) __builtin_prefetch(&bins.overlap_start[order[k + kPrefetchDistance]]);
       }
       bins.depth_rects[k] = projected.tiles[order[k]];
-      bins.depth_overlap_start[k] = bins.overlap_start[order[k]];
+      if (for_backward) bins.depth_overlap_start[k] = bins.overlap_start[order[k]];
     }
   });
 
@@ -175,7 +175,8 @@ void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, Til
                 " Gaussian-tile overlaps exceed the 32-bit list index; render smaller");
   bins.tile_start[tile_count] = std::uint32_t(total);
   bins.gaussian_ids.resize(total);
-  bins.entry_overlap.resize(total);
+  // A frame only looked at needs no overlaps: one scattered write stream fewer.
+  bins.entry_overlap.resize(for_backward ? total : 0);
 
   // 5. Fill, each chunk into its own slots.
   tbb::parallel_for(std::size_t(0), kFillChunks, [&](std::size_t chunk) {
@@ -184,12 +185,12 @@ void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, Til
     for (std::size_t k = chunk * chunk_size; k < end; ++k) {
       const std::uint32_t id = order[k];
       const TileRect& r = bins.depth_rects[k];
-      std::uint32_t overlap = bins.depth_overlap_start[k];
+      std::uint32_t overlap = for_backward ? bins.depth_overlap_start[k] : 0;
       for (int ty = r.y0; ty < r.y1; ++ty)
         for (int tx = r.x0; tx < r.x1; ++tx) {
           const std::uint32_t position = next[std::size_t(ty) * grid.tiles_x + tx]++;
           bins.gaussian_ids[position] = id;
-          bins.entry_overlap[position] = overlap++;
+          if (for_backward) bins.entry_overlap[position] = overlap++;
         }
     }
   });

@@ -32,7 +32,8 @@ struct TileBins {
   std::vector<std::uint32_t> depth_overlap_start;   // overlap_start[depth_order[k]]
 };
 
-void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, TileBins& bins);
+// Without `for_backward` (a frame only looked at) entry_overlap is left empty.
+void bin_and_sort(const ProjectedGaussians& projected, const TileGrid& grid, bool for_backward, TileBins& bins);
 
 // Stable LSD radix sort of `items` by their high 32 bits (ascending); `scratch` is resized as
 // needed.

@@ -34,7 +34,7 @@ void Rasterizer::render(const GaussianModel& model, const Camera& camera,
   result.timings.project_ms = ms_since(start);
 
   start = Clock::now();
-  bin_and_sort(frame.projected, frame.grid, frame.bins);
+  bin_and_sort(frame.projected, frame.grid, settings.for_backward, frame.bins);
   result.timings.bin_sort_ms = ms_since(start);
 
   start = Clock::now();

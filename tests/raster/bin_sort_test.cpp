@@ -49,7 +49,7 @@ TEST(BinSort, TileListsHoldEveryOverlapFrontToBack) {
     p.tiles[i] = {x0, y0, x1, y1};  // some empty (x1 == x0)
   }
   TileBins bins;
-  bin_and_sort(p, grid, bins);
+  bin_and_sort(p, grid, true, bins);
   ASSERT_EQ(bins.tile_start.size(), std::size_t(grid.count() + 1));
   for (int t = 0; t < grid.count(); ++t) {
     const int tx = t % grid.tiles_x, ty = t / grid.tiles_x;
@@ -65,12 +65,19 @@ TEST(BinSort, TileListsHoldEveryOverlapFrontToBack) {
                                          bins.gaussian_ids.begin() + bins.tile_start[t + 1]);
     EXPECT_EQ(got, expected) << "tile " << t;
   }
+  // A frame only looked at gets the same lists and no overlaps.
+  TileBins looked_at;
+  bin_and_sort(p, grid, false, looked_at);
+  EXPECT_EQ(looked_at.gaussian_ids, bins.gaussian_ids);
+  EXPECT_EQ(looked_at.tile_start, bins.tile_start);
+  EXPECT_TRUE(looked_at.entry_overlap.empty());
+  EXPECT_FALSE(bins.entry_overlap.empty());
 }
 
 TEST(BinSort, NoGaussiansGivesEmptyTiles) {
   ProjectedGaussians p;
   TileBins bins;
-  bin_and_sort(p, TileGrid{3, 2}, bins);
+  bin_and_sort(p, TileGrid{3, 2}, true, bins);
   EXPECT_TRUE(bins.gaussian_ids.empty());
   EXPECT_EQ(bins.tile_start, std::vector<std::uint32_t>(7, 0));
 }

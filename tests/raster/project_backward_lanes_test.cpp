@@ -104,7 +104,7 @@ void expect_lanes_match_scalar(const GaussianModel& model, const Camera& camera,
   ProjectedGaussians projected;
   project_gaussians(model, camera, degree, projected);
   TileBins bins;
-  bin_and_sort(projected, TileGrid::for_image(camera.width, camera.height), bins);
+  bin_and_sort(projected, TileGrid::for_image(camera.width, camera.height), true, bins);
   std::mt19937 rng(7);
   std::normal_distribution<float> normal(0.0f, 1.0f);
   // Random records, a quarter of them not written (they must count as zero).
