@@ -209,9 +209,11 @@ void blend_tile(int tile_x, int tile_y, const ProjectedGaussians& projected, con
     if constexpr (kCount) {
       counts->list_entries += std::uint32_t(batch.size);
       if (live_chunks != 0) counts->visited_entries += std::uint32_t(batch.size);
-      for (int j = 0; j < batch.size; ++j) {
-        batch.reaches[j] = false;
-        counts->box_entries += !footprint_in_tile(*batch.splat[j], x0, y0).empty();
+      for (int j = 0; j < batch.size; ++j) batch.reaches[j] = false;
+      for (int j0 = 0; j0 < batch.size; j0 += kLanes) {
+        const int count = std::min(kLanes, batch.size - j0);
+        const TileBox box(SplatLanes(&batch.splat[j0], count), x0, y0);
+        counts->box_entries += std::uint32_t(__builtin_popcount(simd::bits(box.inside) & ((1u << count) - 1)));
       }
     }
     for (std::uint32_t todo = chunks; todo != 0; todo &= todo - 1) {

@@ -28,22 +28,6 @@ inline f32v lane_index() {
   return v;
 }
 
-// The rows and chunk columns of the tile at (x0, y0) inside a splat's α ≥ kMinAlpha box
-// (rows are absolute pixel rows; columns are chunk indices within the tile row).
-struct Footprint {
-  int row_lo, row_hi, chunk_lo, chunk_hi;
-  bool empty() const { return row_lo > row_hi || chunk_lo > chunk_hi; }
-};
-
-inline Footprint footprint_in_tile(const Splat2D& s, int x0, int y0) {
-  const int row_lo = std::max(y0, int(std::ceil(s.mean_y - s.extent_y)));
-  const int row_hi = std::min(y0 + kTileSize - 1, int(std::floor(s.mean_y + s.extent_y)));
-  const int col_lo = std::max(x0, int(std::ceil(s.mean_x - s.extent_x)));
-  const int col_hi = std::min(x0 + kTileSize - 1, int(std::floor(s.mean_x + s.extent_x)));
-  if (col_lo > col_hi) return {row_lo, row_hi, 1, 0};
-  return {row_lo, row_hi, (col_lo - x0) / kLanes, (col_hi - x0) / kLanes};
-}
-
 // dx = mean_x − pixel x of each lane of chunk column `column` of the tile at x0 (d = splat
 // centre − pixel centre, as in the reference rasterizer).
 inline f32v column_dx(const Splat2D& s, int x0, int column) {
@@ -124,29 +108,42 @@ inline simd::i32v spread_to_even_bits(simd::i32v bits) {
   return bits;
 }
 
+// Per lane, the splat's α ≥ kMinAlpha box (±extent about its centre) in the tile at (x0, y0):
+// whether it holds a pixel centre of the tile, its rows clamped to the tile, and its first and
+// last pixel columns (absolute, unclamped). NaN: not inside, as the comparisons are false.
+struct TileBox {
+  i32v inside;
+  RowSpan rows;
+  f32v col_lo, col_hi;
+
+  TileBox(const SplatLanes& s, int x0, int y0) {
+    const float left = float(x0), right = float(x0 + kTileSize - 1);
+    const float top = float(y0), bottom = float(y0 + kTileSize - 1);
+    const f32v row_lo = simd::ceil(s.mean_y - s.extent_y), row_hi = simd::floor(s.mean_y + s.extent_y);
+    col_lo = simd::ceil(s.mean_x - s.extent_x), col_hi = simd::floor(s.mean_x + s.extent_x);
+    inside = (row_lo <= bottom) & (row_hi >= top) & (row_lo <= row_hi) & (col_lo <= right) & (col_hi >= left) &
+             (col_lo <= col_hi);
+    rows = {simd::max(row_lo, simd::broadcast(top)), simd::min(row_hi, simd::broadcast(bottom))};
+  }
+};
+
 // The chunks of the tile at (x0, y0) in which each of `count` splats may draw (one splat per
 // lane; lanes from `count` on are 0): bit (row · kChunksPerRow + column) for each row and chunk
 // column inside both the splat's α ≥ kMinAlpha box and its reach (splat_reach.hpp).
 inline i32v chunks_to_walk(const Splat2D* const splats[kLanes], int count, int x0, int y0) {
   static_assert(kChunksPerRow == 2, "rows of two chunk columns are interleaved below");
   const SplatLanes s(splats, count);
-  const float left = float(x0), right = float(x0 + kTileSize - 1);
-  const float top = float(y0), bottom = float(y0 + kTileSize - 1);
-  // The box, as footprint_in_tile (NaN: empty, as the comparisons are false).
-  const f32v row_lo = simd::ceil(s.mean_y - s.extent_y), row_hi = simd::floor(s.mean_y + s.extent_y);
-  const f32v col_lo = simd::ceil(s.mean_x - s.extent_x), col_hi = simd::floor(s.mean_x + s.extent_x);
-  const i32v in_box = (row_lo <= bottom) & (row_hi >= top) & (row_lo <= row_hi) & (col_lo <= right) &
-                      (col_hi >= left) & (col_lo <= col_hi);
-  const RowSpan box{simd::max(row_lo, simd::broadcast(top)), simd::min(row_hi, simd::broadcast(bottom))};
+  const float left = float(x0), top = float(y0);
+  const TileBox box(s, x0, y0);
   const ReachLanes reach(s, left, top);
   i32v lanes;
   for (int l = 0; l < kLanes; ++l) lanes[l] = l;
-  i32v chunks = (lanes < count) & in_box;
+  i32v chunks = (lanes < count) & box.inside;
   i32v walk{};
   for (int column = 0; column < kChunksPerRow; ++column) {
     const float first_x = float(x0 + column * kLanes), last_x = first_x + float(kLanes - 1);
-    const RowSpan rows = reach.column_rows(s.mean_x - last_x, s.mean_x - first_x, box);
-    const i32v in_column = (col_lo <= last_x) & (col_hi >= first_x) & (rows.first <= rows.last);
+    const RowSpan rows = reach.column_rows(s.mean_x - last_x, s.mean_x - first_x, box.rows);
+    const i32v in_column = (box.col_lo <= last_x) & (box.col_hi >= first_x) & (rows.first <= rows.last);
     // Rows relative to the tile, clamped into it (they are inside where the span is not empty).
     const f32v last_row = f32v{} + float(kTileSize - 1);
     const i32v first = __builtin_convertvector(simd::min(simd::max(rows.first - top, f32v{}), last_row), i32v);
