@@ -1,8 +1,9 @@
 #pragma once
 // Small pieces both trainers use: stage timing, the finiteness check behind divergence
 // stops, and how often the last good parameters are kept.
+#include <bit>
 #include <chrono>
-#include <cmath>
+#include <cstdint>
 #include <span>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
@@ -19,17 +20,20 @@ inline double ms_since(Clock::time_point start) {
 // run can still hand back a good model.
 constexpr int kLastGoodInterval = 100;
 
-// True if every value is finite. A sum is non-finite as soon as one term is (or overflows,
-// which is as much a divergence), so one parallel reduction checks a whole group.
+// True if every value is finite: no value has the all-ones exponent of ±∞ and NaN. An OR of
+// bit tests, which the compiler vectorises (a running sum was one dependent addition per
+// value, about 1 % of a training iteration).
 inline bool all_finite(std::span<const float> values) {
-  const double sum = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, values.size(), 1 << 16), 0.0,
-      [&](const tbb::blocked_range<std::size_t>& r, double acc) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) acc += values[i];
-        return acc;
+  constexpr std::uint32_t kExponent = 0x7f800000u;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, values.size(), 1 << 16), true,
+      [&](const tbb::blocked_range<std::size_t>& r, bool finite) {
+        std::uint32_t non_finite = 0;
+        for (std::size_t i = r.begin(); i != r.end(); ++i)
+          non_finite |= std::uint32_t((std::bit_cast<std::uint32_t>(values[i]) & kExponent) == kExponent);
+        return finite && non_finite == 0;
       },
-      [](double a, double b) { return a + b; });
-  return std::isfinite(sum);
+      [](bool a, bool b) { return a && b; });
 }
 
 }  // namespace splat::training
