@@ -52,7 +52,8 @@ void store_lanes(Element* dst, const Vector& v, int lanes) {
   for (int lane = 0; lane < lanes; ++lane) dst[lane] = Element(v[lane]);
 }
 
-void write_tile(int x0, int y0, const TileState& state, const float background[3],
+// The backward's per-pixel state (final T and contributor count) only when `for_backward`.
+void write_tile(int x0, int y0, const TileState& state, const float background[3], bool for_backward,
                 RenderResult& result) {
   const int width = result.color.width, height = result.color.height;
   for (int chunk = 0; chunk < kChunksPerTile; ++chunk) {
@@ -76,6 +77,7 @@ void write_tile(int x0, int y0, const TileState& state, const float background[3
     // The planar outputs hold the chunk's pixels contiguously.
     store_lanes(&result.alpha[p0], alpha, lanes);
     store_lanes(&result.depth[p0], a.depth, lanes);
+    if (!for_backward) continue;
     store_lanes(&result.final_transmittance[p0], a.transmittance, lanes);
     store_lanes(&result.contributor_count[p0], state.last_blended[chunk], lanes);
   }
@@ -228,7 +230,7 @@ void blend_tile(int tile_x, int tile_y, const ProjectedGaussians& projected, con
     if constexpr (kCount)
       for (int j = 0; j < batch.size; ++j) counts->reaching_entries += batch.reaches[j];
   }
-  write_tile(x0, y0, state, background, result);
+  write_tile(x0, y0, state, background, kPass != BlendPass::kImage, result);
 }
 
 }  // namespace

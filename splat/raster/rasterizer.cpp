@@ -27,7 +27,7 @@ void Rasterizer::render(const GaussianModel& model, const Camera& camera,
   check_render_inputs(model, camera);
   RasterFrame& frame = result.frame;
   frame.grid = TileGrid::for_image(camera.width, camera.height);
-  result.resize(camera.width, camera.height);
+  result.resize(camera.width, camera.height, settings.for_backward);
 
   auto start = Clock::now();
   project_gaussians(model, camera, settings.sh_degree, frame.projected);

@@ -21,8 +21,9 @@ struct RenderSettings {
   // the default), or passed straight through as if unclamped, which is what the official CUDA
   // rasterizer's backward does (splat-grad uses it to compare with its gradients).
   AlphaClampGradient alpha_clamp_gradient = AlphaClampGradient::kZero;
-  // Keep what Rasterizer::backward needs of the blend (where each tile-list entry blended).
-  // Renders that are only looked at (splat-render, the viewer, scoring) turn it off.
+  // Keep what Rasterizer::backward needs of the blend (where each tile-list entry blended,
+  // each tile's overlap index, each pixel's final T and contributor count). Renders that are
+  // only looked at (splat-render, the viewer, scoring) turn it off.
   bool for_backward = true;
 };
 

@@ -31,20 +31,22 @@ struct RenderResult {
   Image color;                                   // [H, W, 3] with background, not clamped
   std::vector<float> alpha;                      // [H, W] 1 − final transmittance
   std::vector<float> depth;                      // [H, W] Σ wᵢ zᵢ (divide by alpha to normalise)
+  // The backward pass's per-pixel state: empty in a frame rendered only to be looked at
+  // (RenderSettings::for_backward off), which need not write them.
   std::vector<float> final_transmittance;        // [H, W] T after the last blended Gaussian
   std::vector<std::uint32_t> contributor_count;  // [H, W] entries of the pixel's tile list
                                                  // up to and including its last blended one
   RasterFrame frame;                             // what the pixels were blended from
   RenderTimings timings;                         // what Rasterizer::render took for it
 
-  void resize(int width, int height) {
+  void resize(int width, int height, bool for_backward = true) {
     if (color.width != width || color.height != height || color.channels != 3)
       color = Image(width, height, 3);
     const std::size_t pixels = std::size_t(width) * height;
     alpha.resize(pixels);
     depth.resize(pixels);
-    final_transmittance.resize(pixels);
-    contributor_count.resize(pixels);
+    final_transmittance.resize(for_backward ? pixels : 0);
+    contributor_count.resize(for_backward ? pixels : 0);
   }
 };
 

@@ -143,7 +143,12 @@ TEST(Backward, RefusesAFrameRenderedOnlyToBeLookedAt) {
   view_only.for_backward = false;
   rasterizer.render(model, camera, view_only, looked_at);
   EXPECT_EQ(looked_at.color.data, recorded.color.data);
-  EXPECT_EQ(looked_at.contributor_count, recorded.contributor_count);
+  EXPECT_EQ(looked_at.alpha, recorded.alpha);
+  EXPECT_EQ(looked_at.depth, recorded.depth);
+  // Nor is the backward's per-pixel state written.
+  EXPECT_TRUE(looked_at.contributor_count.empty());
+  EXPECT_TRUE(looked_at.final_transmittance.empty());
+  EXPECT_FALSE(recorded.contributor_count.empty());
   EXPECT_FALSE(recorded.frame.entry_chunks.empty());
   Image v_color(40, 24, 3);
   for (float& v : v_color.data) v = 1.0f;
