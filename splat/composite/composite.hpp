@@ -69,16 +69,18 @@ inline F composite_finish(const CompositeAccum<F>& acc, int channel, Scalar back
 //   ∂C/∂cᵢ = Tᵢ αᵢ
 //   ∂C/∂αᵢ = Tᵢ (cᵢ − Bᵢ) − T_N / (1 − αᵢ) · bg
 // and Bᵢ₋₁ = αᵢ cᵢ + (1 − αᵢ) Bᵢ. (The bg term: every Tⱼ, j > i, and T_N hold a factor (1 − αᵢ).)
+// The loss needs Bᵢ only through v·Bᵢ (v = ∂L/∂C, the same for every sample of the pixel),
+// which follows the same recurrence: one running sum instead of three.
 
 template <class F>
 struct CompositeReverse {
   F transmittance;  // Tᵢ₊₁ while undoing sample i: starts at the final T
-  F behind[3];      // Bᵢ per channel: starts at 0
+  F behind_dot_v;   // v·Bᵢ: starts at 0
 
   static CompositeReverse start(F final_transmittance) {
     CompositeReverse r;
     r.transmittance = final_transmittance;
-    r.behind[0] = r.behind[1] = r.behind[2] = F{};
+    r.behind_dot_v = F{};
     return r;
   }
 };
@@ -96,14 +98,15 @@ inline F composite_step_vjp(CompositeReverse<F>& r, M blended, F alpha, F red, F
   const F transmittance = r.transmittance / one_minus_alpha;  // Tᵢ
   const F weight = alpha * transmittance;
   const F color[3] = {red, green, blue};
-  F dot = F{};
+  F color_dot_v = F{};
   for (int c = 0; c < 3; ++c) {
     v_color[c] = select(blended, weight * v_pixel[c], F{});
-    dot = dot + (color[c] - r.behind[c]) * v_pixel[c];
-    r.behind[c] = select(blended, alpha * color[c] + one_minus_alpha * r.behind[c], r.behind[c]);
+    color_dot_v = color_dot_v + color[c] * v_pixel[c];
   }
-  v_alpha = select(blended, transmittance * dot - final_transmittance / one_minus_alpha * background_dot_v,
+  v_alpha = select(blended,
+                   transmittance * (color_dot_v - r.behind_dot_v) - final_transmittance / one_minus_alpha * background_dot_v,
                    F{});
+  r.behind_dot_v = select(blended, alpha * color_dot_v + one_minus_alpha * r.behind_dot_v, r.behind_dot_v);
   r.transmittance = select(blended, transmittance, r.transmittance);
   return select(blended, weight, F{});
 }

@@ -29,7 +29,7 @@ constexpr int kTilePixels = kTileSize * kTileSize;
 struct TileReverseState {
   // (Aligned to the cache line, so no row straddles two.)
   alignas(64) float transmittance[kTilePixels];  // CompositeReverse: Tᵢ₊₁, starts at the final T
-  alignas(64) float behind[3][kTilePixels];      // CompositeReverse: Bᵢ
+  alignas(64) float behind_dot_v[kTilePixels];   // CompositeReverse: v·Bᵢ
   alignas(64) float v_pixel[3][kTilePixels];     // ∂L/∂C
   alignas(64) float final_transmittance[kTilePixels];
   alignas(64) float background_dot_v[kTilePixels];  // bg · ∂L/∂C
@@ -116,10 +116,8 @@ int load_tile(int x0, int y0, const float background[3], const RenderResult& for
       }
     }
     state.transmittance[pixel] = final_t;
-    for (int c = 0; c < 3; ++c) {
-      state.behind[c][pixel] = 0.0f;
-      state.v_pixel[c][pixel] = v[c];
-    }
+    state.behind_dot_v[pixel] = 0.0f;
+    for (int c = 0; c < 3; ++c) state.v_pixel[c][pixel] = v[c];
     state.final_transmittance[pixel] = final_t;
     state.background_dot_v[pixel] = bg_dot;
     state.contributor_count[pixel] = count;
@@ -169,15 +167,14 @@ bool reverse_units(const EntryInputs& in, const ExponentTerms<F>& exponent, cons
       blended_any = true;
       const int chunk = chunks[first + g];
       const int p = chunk * kLanes;
-      CompositeReverse<F> reverse{load<F>(&state.transmittance[p]),
-                                  {load<F>(&state.behind[0][p]), load<F>(&state.behind[1][p]), load<F>(&state.behind[2][p])}};
+      CompositeReverse<F> reverse{load<F>(&state.transmittance[p]), load<F>(&state.behind_dot_v[p])};
       const F v_pixel[3] = {load<F>(&state.v_pixel[0][p]), load<F>(&state.v_pixel[1][p]), load<F>(&state.v_pixel[2][p])};
       F v_alpha, v_rgb[3];
       const F weight = composite_step_vjp(reverse, blended[g], alpha[g], red, green, blue, v_pixel,
                                           load<F>(&state.final_transmittance[p]),
                                           load<F>(&state.background_dot_v[p]), v_alpha, v_rgb);
       store(&state.transmittance[p], reverse.transmittance);
-      for (int ch = 0; ch < 3; ++ch) store(&state.behind[ch][p], reverse.behind[ch]);
+      store(&state.behind_dot_v[p], reverse.behind_dot_v);
       acc.weight += in_row<kPlace>(weight);
       for (int ch = 0; ch < 3; ++ch) acc.color[ch] += in_row<kPlace>(v_rgb[ch]);
       // α = min(kMaxAlpha, o·G): where the clamp holds, α does not depend on o or G
