@@ -45,16 +45,17 @@ inline void update_elements(float* __restrict param, const float* __restrict gra
   }
 }
 
-// The same update over whole rows of `width` floats whose columns have their own step sizes
-// (`step_sizes[j]` for column j): every element gets exactly update_elements' arithmetic, in
-// one loop the compiler vectorises across the row instead of a short loop per run of columns.
+// The same update over the first `columns` floats of rows `width` floats apart, whose columns
+// have their own step sizes (`step_sizes[j]` for column j): every element gets exactly
+// update_elements' arithmetic, in one loop the compiler vectorises across the row instead of
+// a short loop per run of columns.
 inline void update_rows_by_column(float* __restrict param, const float* __restrict grad,
                                   float* __restrict m, float* __restrict v, std::size_t rows,
-                                  std::size_t width, const float* __restrict step_sizes,
+                                  std::size_t width, std::size_t columns, const float* __restrict step_sizes,
                                   const StepCoefficients& c) {
   for (std::size_t row = 0; row < rows; ++row) {
     const std::size_t o = row * width;
-    for (std::size_t j = 0; j < width; ++j) {
+    for (std::size_t j = 0; j < columns; ++j) {
       const float g = grad[o + j];
       const float m_new = m[o + j] + c.one_minus_beta1 * (g - m[o + j]);
       const float v_new = v[o + j] * c.beta2 + c.one_minus_beta2 * g * g;
@@ -157,7 +158,10 @@ void adam_step(GaussianModel& params, const GaussianModel& grads, AdamState& sta
   }
   const float dc_step = step_size(lr.sh_dc), rest_step = step_size(lr.sh_rest);
   constexpr std::size_t kDcFloats = 3;  // band 0 leads each row: k = 0, RGB
-  const std::size_t rest_floats = sh.width - kDcFloats;
+  // The row's columns that are stepped: the bands up to active.sh_degree.
+  const std::size_t stepped = std::min(
+      sh.width, std::size_t(3 * sh_coefficient_count(std::clamp(active.sh_degree, 0, params.sh_degree))));
+  const std::size_t rest_floats = stepped - std::min(kDcFloats, stepped);
   std::vector<float> sh_steps(sh.width, rest_step);  // per column of an SH row
   std::fill(sh_steps.begin(), sh_steps.begin() + std::min(kDcFloats, sh.width), dc_step);
 
@@ -165,7 +169,8 @@ void adam_step(GaussianModel& params, const GaussianModel& grads, AdamState& sta
   auto update_sh_rows = [&](std::size_t first, std::size_t last, const float* grad) {
     const std::size_t o = first * sh.width;
     if (active.sh_dc && active.sh_rest) {
-      update_rows_by_column(sh.param + o, grad, sh.m + o, sh.v + o, last - first, sh.width, sh_steps.data(), c);
+      update_rows_by_column(sh.param + o, grad, sh.m + o, sh.v + o, last - first, sh.width, stepped,
+                            sh_steps.data(), c);
     } else if (active.sh_dc || active.sh_rest) {
       // Band 0 and the rest interleave row by row: two short runs per Gaussian.
       for (std::size_t row = first; row < last; ++row) {

@@ -44,6 +44,11 @@ struct GroupLearningRates {
 struct AdamGroupMask {
   bool means = true, sh_dc = true, sh_rest = true, opacity = true, scales = true,
        rotations = true;
+  // SH bands above this degree are not stepped: the trainer passes its active degree, whose
+  // higher bands have had no gradient yet, so their moments are zero and a step would leave
+  // parameters and moments exactly as they are (m and v stay 0, p moves by −lr·0/ε = −0).
+  // Early in a run that is most of each row. The caller must keep that promise.
+  int sh_degree = kMaxShDegree;
 };
 
 struct AdamState {

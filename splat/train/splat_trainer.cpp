@@ -261,6 +261,8 @@ void SplatTrainer::step_model(const ReducedBatch& batch, const DensityStepReport
   if (density.densified) return;
   AdamGroupMask active;
   active.opacity = !density.opacity_reset;
+  // The bands above the active degree have had no gradient yet (none is rendered with them).
+  active.sh_degree = active_sh_degree_;
   if (far_steps_.active()) means_before_step_ = model_.means;
   adam_step(model_, batch.gradient, adam_, lr, adam_settings(), active, batch.sh_factors);
   if (far_steps_.active()) scale_far_steps(model_.means, means_before_step_, far_steps_);

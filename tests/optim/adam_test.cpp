@@ -184,6 +184,40 @@ TEST(Adam, BothShGroupsTogetherStepBitForBitAsEachAlone) {
   EXPECT_NE(both.sh, start.sh);
 }
 
+TEST(Adam, BandsAboveTheActiveDegreeAreLeftAsAFullStepLeavesThem) {
+  // The trainer does not step the SH bands above its active degree: with no gradient there
+  // yet and zero moments, a full step leaves them exactly as they are, so skipping them must
+  // give the same bits everywhere, for each degree and with either SH group alone.
+  const GaussianModel start = test::random_model(1001, 3, 51);
+  const std::size_t row = std::size_t(start.sh_coefficients()) * 3;
+  for (int degree : {0, 1, 2}) {
+    GaussianModel grads = test::random_model(1001, 3, 52);
+    for (std::size_t i = 0; i < grads.sh.size(); ++i)
+      if (i % row >= std::size_t(3 * sh_coefficient_count(degree))) grads.sh[i] = 0.0f;
+    for (const auto& [dc, rest] : {std::pair{true, true}, std::pair{true, false}, std::pair{false, true}}) {
+      GaussianModel full = start, skipped = start;
+      AdamState full_state, skipped_state;
+      full_state.reset_like(start);
+      skipped_state.reset_like(start);
+      AdamGroupMask all, active;
+      all.sh_dc = active.sh_dc = dc;
+      all.sh_rest = active.sh_rest = rest;
+      active.sh_degree = degree;
+      for (int i = 0; i < 3; ++i) {
+        adam_step(full, grads, full_state, distinct_rates(), {}, all);
+        adam_step(skipped, grads, skipped_state, distinct_rates(), {}, active);
+      }
+      EXPECT_EQ(skipped.sh, full.sh) << degree;
+      EXPECT_EQ(skipped_state.first_moment.sh, full_state.first_moment.sh) << degree;
+      EXPECT_EQ(skipped_state.second_moment.sh, full_state.second_moment.sh) << degree;
+      EXPECT_EQ(skipped.means, full.means);
+      if (dc || degree > 0) {
+        EXPECT_NE(skipped.sh, start.sh);
+      }
+    }
+  }
+}
+
 TEST(Adam, ShGradientFactorsStepAsTheirRows) {
   // Adam forms each SH row from its factors as it steps: the parameters and moments must be
   // those the rows themselves give, for any active degree, a count that is not a multiple of
