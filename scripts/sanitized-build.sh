@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # scripts/sanitized-build.sh [TARGET...]: configures and builds build-sanitize/ with clang:
 # AddressSanitizer + UndefinedBehaviorSanitizer and libFuzzer's coverage (SPLAT_FUZZ=ON), the
-# tests included, at -O2 -g1 (line tables: what stack traces need) without NDEBUG (our assertions and Eigen's bounds checks stay on).
+# tests included, at -O2 -g1 (line tables: what stack traces need) without NDEBUG (our
+# assertions and Eigen's bounds checks stay on).
 # The sanitizer suite (scripts/test.sh --sanitize) and the fuzz campaign (bench/fuzz.sh) share
 # this one build. With TARGETs, builds only those. Source it for the sanitizers' settings.
 set -euo pipefail
