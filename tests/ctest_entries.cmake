@@ -3,7 +3,7 @@
 # command-line tests of tests/cli/, each of which runs programs and takes seconds to minutes),
 # and one entry per suite for all others (unit tests of a few milliseconds each, where starting
 # the process, which loads the 265 shared libraries OpenImageIO brings, cost more than the test).
-#   -D TEST_EXECUTABLE=…  -D CTEST_FILE=…  -D WORKING_DIRECTORY=…  -D PER_CASE_SUITES="A;B;…"
+#   -D TEST_EXECUTABLE=…  -D CTEST_FILE=…  -D WORKING_DIRECTORY=…  -D PER_CASE_SUITES=A,B,…
 #   -D TEST_TIMEOUT=seconds
 # The list comes from the binary itself (--gtest_list_tests), so every case is in exactly one
 # entry whatever the sources look like.
@@ -17,7 +17,7 @@ endif()
 
 set(entries "")
 set(suite "")
-set(suites_seen "")
+set(per_case FALSE)
 string(REPLACE "\n" ";" lines "${listing}")
 foreach(line IN LISTS lines)
   # "Suite." or "Prefix/Suite." starts a suite; "  Case" or "  Case/0  # GetParam() = …" is a case.
