@@ -1,7 +1,5 @@
 #include "splat/data/image_io.hpp"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -17,43 +15,16 @@
 #include "splat/core/atomic_file.hpp"
 #include "splat/core/error.hpp"
 #include "splat/data/jpeg_reader.hpp"
+#include "splat/data/oiio_loader.hpp"
 #include "splat/data/resample.hpp"
 #include "splat/data/png_reader.hpp"
+#include "splat/data/png_writer.hpp"
 
 namespace splat {
 namespace {
 
 constexpr int kMaxPngChannels = 4;
 constexpr int kMaxImageChannels = 16;
-constexpr const char* kPngFormat = "png";
-// OpenImageIO premultiplies alpha into the colour of PNG/TIFF/... on read, and divides it out
-// again on write, unless told the data are straight ("unassociated"). We want the stored
-// values untouched in both directions.
-constexpr const char* kUnassociatedAlpha = "oiio:UnassociatedAlpha";
-
-// OpenImageIO keeps one pending error per thread for failures that have no ImageInput or
-// ImageOutput to report them. Reading it clears it, so a message can never surface in a
-// later, unrelated call.
-// OpenImageIO may report one failure over several lines (each layer adds its own); our
-// errors are one line.
-std::string one_line(std::string message) {
-  while (!message.empty() && message.back() == '\n') message.pop_back();
-  for (std::size_t at = message.find('\n'); at != std::string::npos; at = message.find('\n', at))
-    message.replace(at, 1, "; ");
-  return message.empty() ? "unknown OpenImageIO error" : message;
-}
-
-std::string take_global_error() { return one_line(OIIO::geterror()); }
-
-void discard_stale_global_error() {
-  if (OIIO::has_error()) (void)OIIO::geterror();
-}
-
-template <class T>
-std::string take_error(const T& io) {
-  return one_line(io.geterror());
-}
-
 // The formats we read, told apart by their first bytes, whatever the file's name. PNG and
 // JPEG have readers of their own (png_reader.hpp, jpeg_reader.hpp); OpenImageIO reads the
 // rest, each through its one plugin: told nothing, it would try every plugin it has on a file
@@ -126,21 +97,32 @@ void check_exr_attribute_sizes(const std::filesystem::path& file) {
   }
 }
 
-std::unique_ptr<OIIO::ImageInput> open_input(const std::filesystem::path& file, const char* format) {
-  discard_stale_global_error();
-  OIIO::ImageSpec config;
-  config.attribute(kUnassociatedAlpha, 1);
+using oiio_plugin::Failure;
+using oiio_plugin::Outcome;
+
+// A file open in the OpenImageIO plugin, closed with it.
+struct PluginReaderCloser {
+  const oiio_plugin::Api* api;
+  void operator()(oiio_plugin::Reader* reader) const { api->close(reader); }
+};
+using PluginReader = std::unique_ptr<oiio_plugin::Reader, PluginReaderCloser>;
+
+// Opens `file` with the plugin's `format` reader and checks its size against the image limits.
+PluginReader open_input(const std::filesystem::path& file, const char* format, oiio_plugin::Spec& spec) {
   if (std::string_view(format) == "openexr") check_exr_attribute_sizes(file);
-  auto in = OIIO::ImageInput::create(format, /*do_open=*/false, &config);
-  if (!in) throw InputError(file, std::string("no ") + format + " reader: " + take_global_error());
-  OIIO::ImageSpec opened;
-  if (!in->open(file.string(), opened, config)) throw InputError(file, "cannot read image: " + take_error(*in));
-  const OIIO::ImageSpec& spec = in->spec();
+  const oiio_plugin::Api& api = oiio_plugin_for(file);
+  Outcome outcome;
+  PluginReader in(api.open(file.string(), format, spec, outcome), PluginReaderCloser{&api});
+  if (!in) {
+    if (outcome.failure == Failure::no_reader)
+      throw InputError(file, std::string("no ") + format + " reader: " + outcome.message);
+    throw InputError(file, "cannot read image: " + outcome.message);
+  }
   const std::string size = std::to_string(spec.width) + " x " + std::to_string(spec.height) + " x " +
-                           std::to_string(spec.nchannels);
+                           std::to_string(spec.channels);
   if (const std::string problem = image_size_problem(spec.width, spec.height); !problem.empty())
     throw InputError(file, "image size " + size + ": " + problem);
-  if (spec.nchannels < 1 || spec.nchannels > kMaxImageChannels)
+  if (spec.channels < 1 || spec.channels > kMaxImageChannels)
     throw InputError(file, "image size " + size + ": 1 to " + std::to_string(kMaxImageChannels) + " channels");
   if (spec.depth > 1 || spec.deep)
     throw InputError(file, "volume and deep images are not supported");
@@ -170,35 +152,46 @@ std::vector<Code> quantise(const Image& image) {
   return codes;
 }
 
-// Writes `pixels` (of `pixel_type`, interleaved like `spec`) to `temp` as `format`, which is a
-// format name or a file name to infer it from. Errors name `file`, the path the user asked for.
-void write_with_oiio(const std::filesystem::path& file, const std::filesystem::path& temp,
-                     const std::string& format, const OIIO::ImageSpec& spec,
-                     OIIO::TypeDesc pixel_type, const void* pixels) {
-  discard_stale_global_error();
-  auto out = OIIO::ImageOutput::create(format);
-  if (!out) throw InputError(file, "no image writer for this format: " + take_global_error());
-  if (!out->open(temp.string(), spec)) {
-    const std::string message = take_error(*out);
-    // OpenImageIO's message names the temporary; the usual cause deserves plain words.
-    const std::filesystem::path folder = file.parent_path();
-    if (!folder.empty() && !std::filesystem::is_directory(folder))
-      throw InputError(file, "cannot create image: folder " + folder.string() +
-                                 " does not exist");
-    throw InputError(file, "cannot create image: " + message);
+// "cannot create image: ...": where the folder is missing, in those plain words (the
+// writer's own message would name the temporary).
+[[noreturn]] void throw_cannot_create(const std::filesystem::path& file, const std::string& message) {
+  const std::filesystem::path folder = file.parent_path();
+  if (!folder.empty() && !std::filesystem::is_directory(folder))
+    throw InputError(file, "cannot create image: folder " + folder.string() + " does not exist");
+  throw InputError(file, "cannot create image: " + message);
+}
+
+// Writes `pixels` (of `type`, interleaved as `image` is) to `temp` through the OpenImageIO
+// plugin as `format`, which is a format name or a file name to infer it from. Errors name
+// `file`, the path the user asked for.
+void write_with_oiio(const std::filesystem::path& file, const std::filesystem::path& temp, const std::string& format,
+                     const Image& image, oiio_plugin::PixelType type, const void* pixels) {
+  const oiio_plugin::Api& api = oiio_plugin_for(file);
+  const oiio_plugin::Spec spec{image.width, image.height, image.channels};
+  Outcome outcome;
+  if (api.write(temp.string(), format, spec, type, pixels, outcome)) return;
+  switch (outcome.failure) {
+    case Failure::no_writer: throw InputError(file, "no image writer for this format: " + outcome.message);
+    case Failure::cannot_create: throw_cannot_create(file, outcome.message);
+    case Failure::cannot_write: throw InputError(file, "cannot write image: " + outcome.message);
+    case Failure::cannot_finish: throw InputError(file, "cannot finish image: " + outcome.message);
+    default: throw InputError(file, outcome.message);  // narrower_type: the message says it all
   }
-  if (!out->write_image(pixel_type, pixels)) {
-    const std::string message = take_error(*out);
-    out->close();
-    (void)out->geterror();
-    throw InputError(file, "cannot write image: " + message);
+}
+
+// Writes `codes` (`bits` per value) as a PNG to `temp` with libpng.
+void write_png_file(const std::filesystem::path& file, const std::filesystem::path& temp, const Image& image,
+                    int bits, const void* codes) {
+  std::FILE* stream = std::fopen(temp.c_str(), "wb");
+  if (!stream) throw_cannot_create(file, std::strerror(errno));
+  try {
+    write_png_codes(file, stream, image.width, image.height, image.channels, bits, codes);
+  } catch (...) {
+    std::fclose(stream);
+    throw;
   }
-  if (!out->close()) throw InputError(file, "cannot finish image: " + take_error(*out));
-  // Some writers quietly store a narrower type than asked (PNG has no floats). Checked only
-  // now because abandoning a half-open file makes libpng print; the temporary is discarded.
-  if (out->spec().format != spec.format)
-    throw InputError(file, std::string("this format cannot store ") + spec.format.c_str() +
-                               " pixels (it would write " + out->spec().format.c_str() + ")");
+  // The last buffered bytes reach the disk only now: a full disk may show here first.
+  if (std::fclose(stream) != 0) throw InputError(file, std::string("cannot finish image: ") + std::strerror(errno));
 }
 
 }  // namespace
@@ -207,24 +200,14 @@ Image read_image(const std::filesystem::path& file) {
   const ImageFormat& format = format_of(file);
   if (format.reader == Reader::png) return read_png(file);
   if (format.reader == Reader::jpeg) return read_jpeg(file);
-  auto in = open_input(file, format.oiio_name);
-  const OIIO::ImageSpec& spec = in->spec();
-  Image image(spec.width, spec.height, spec.nchannels);
-  // Asking for float makes OpenImageIO map integer codes to [0, 1] (code / max code).
-  if (!in->read_image(/*subimage=*/0, /*miplevel=*/0, /*chbegin=*/0, spec.nchannels,
-                      OIIO::TypeDesc::FLOAT, image.data.data())) {
-    const std::string message = take_error(*in);
-    in->close();
-    (void)in->geterror();
-    throw InputError(file, "cannot decode image: " + message);
+  oiio_plugin::Spec spec;
+  const PluginReader in = open_input(file, format.oiio_name, spec);
+  Image image(spec.width, spec.height, spec.channels);
+  Outcome outcome;
+  if (!in.get_deleter().api->read_float(in.get(), image.data.data(), outcome)) {
+    if (outcome.failure == Failure::damaged_data) throw InputError(file, "damaged image data: " + outcome.message);
+    throw InputError(file, "cannot decode image: " + outcome.message);
   }
-  // A decoder that met damaged data may still fill the image (libjpeg pads a truncated
-  // JPEG with grey) and only leave a message behind: that image is not the photograph.
-  // (OpenImageIO 2.4's has_error() does not see that message; geterror() does.)
-  if (std::string message = in->geterror(); !message.empty())
-    throw InputError(file, "damaged image data: " + one_line(message));
-  in->close();
-  (void)in->geterror();  // nothing left pending for the destructor
   return image;
 }
 
@@ -264,12 +247,9 @@ ImageInfo read_image_info(const std::filesystem::path& file) {
   const ImageFormat& format = format_of(file);
   if (format.reader == Reader::png) return read_png_header(file);
   if (format.reader == Reader::jpeg) return read_jpeg_header(file);
-  auto in = open_input(file, format.oiio_name);
-  const OIIO::ImageSpec& spec = in->spec();
-  const ImageInfo info{spec.width, spec.height, spec.nchannels};
-  in->close();
-  (void)in->geterror();
-  return info;
+  oiio_plugin::Spec spec;
+  (void)open_input(file, format.oiio_name, spec);
+  return {spec.width, spec.height, spec.channels};
 }
 
 std::vector<std::uint8_t> image_codes_8bit(const Image& image) { return quantise<std::uint8_t>(image); }
@@ -282,29 +262,20 @@ void write_png(const Image& image, const std::filesystem::path& file, int bits) 
   if (image.channels > kMaxPngChannels)
     throw ArgumentError(file.string() + ": PNG holds at most 4 channels, not " +
                         std::to_string(image.channels));
-  const OIIO::TypeDesc type = bits == 8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::UINT16;
-  OIIO::ImageSpec spec(image.width, image.height, image.channels, type);
-  spec.attribute(kUnassociatedAlpha, 1);
   if (bits == 8) {
     const std::vector<std::uint8_t> codes = quantise<std::uint8_t>(image);
-    write_atomically(file, [&](const std::filesystem::path& temp) {
-      write_with_oiio(file, temp, kPngFormat, spec, type, codes.data());
-    });
+    write_atomically(file, [&](const std::filesystem::path& temp) { write_png_file(file, temp, image, 8, codes.data()); });
   } else {
     const std::vector<std::uint16_t> codes = quantise<std::uint16_t>(image);
-    write_atomically(file, [&](const std::filesystem::path& temp) {
-      write_with_oiio(file, temp, kPngFormat, spec, type, codes.data());
-    });
+    write_atomically(file, [&](const std::filesystem::path& temp) { write_png_file(file, temp, image, 16, codes.data()); });
   }
 }
 
 void write_float_image(const Image& image, const std::filesystem::path& file) {
   check_image_shape(image, file);
-  OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::FLOAT);
-  spec.attribute(kUnassociatedAlpha, 1);
   write_atomically(file, [&](const std::filesystem::path& temp) {
     // The temporary keeps the extension, but the user's name is the clearer one to infer from.
-    write_with_oiio(file, temp, file.string(), spec, OIIO::TypeDesc::FLOAT, image.data.data());
+    write_with_oiio(file, temp, file.string(), image, oiio_plugin::PixelType::float32, image.data.data());
   });
 }
 

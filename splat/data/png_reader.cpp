@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "splat/core/error.hpp"
+#include "splat/data/libpng_handlers.hpp"
 
 namespace splat {
 namespace {
@@ -22,16 +23,6 @@ constexpr double kMaxDeflateRatio = 1100;
 // Ancillary chunks (text, ICC profiles) we never use: none may make libpng allocate more.
 constexpr png_alloc_size_t kMaxChunkBytes = png_alloc_size_t(8) << 20;
 
-struct ErrorMessage {
-  char text[256] = {};
-};
-
-[[noreturn]] void on_libpng_error(png_structp png, png_const_charp message) {
-  auto* error = static_cast<ErrorMessage*>(png_get_error_ptr(png));
-  std::snprintf(error->text, sizeof error->text, "%s", message);
-  png_longjmp(png, 1);
-}
-
 // libpng's own reader says only "Read Error" when the file ends early.
 void read_from_file(png_structp png, png_bytep data, png_size_t length) {
   auto* stream = static_cast<std::FILE*>(png_get_io_ptr(png));
@@ -39,17 +30,13 @@ void read_from_file(png_structp png, png_bytep data, png_size_t length) {
     png_error(png, std::ferror(stream) ? "cannot read the file" : "the file ends early (truncated)");
 }
 
-// Warnings are about chunks we do not use (say, a known-incorrect sRGB profile) and the
-// pixels are still right: they are dropped rather than printed.
-void on_libpng_warning(png_structp, png_const_charp) {}
-
 // One open PNG: libpng's read state and the file, released together.
 class PngDecoder {
  public:
   explicit PngDecoder(const std::filesystem::path& file) : file_(file) {
     stream_ = std::fopen(file.c_str(), "rb");
     if (!stream_) throw InputError(file, std::string("cannot open the file: ") + std::strerror(errno));
-    png_ = png_create_read_struct(PNG_LIBPNG_VER_STRING, &error_, on_libpng_error, on_libpng_warning);
+    png_ = png_create_read_struct(PNG_LIBPNG_VER_STRING, &error_, libpng::on_error, libpng::on_warning);
     if (png_) info_ = png_create_info_struct(png_);
     if (!png_ || !info_) {
       release();
@@ -122,8 +109,7 @@ class PngDecoder {
   }
 
   [[noreturn]] void fail() const {
-    throw InputError(file_, std::string("cannot read the PNG: ") +
-                                (error_.text[0] ? error_.text : "unknown libpng error"));
+    throw InputError(file_, std::string("cannot read the PNG: ") + libpng::text_of(error_));
   }
 
   std::string size_text() const {
@@ -142,7 +128,7 @@ class PngDecoder {
   std::FILE* stream_ = nullptr;
   png_structp png_ = nullptr;
   png_infop info_ = nullptr;
-  ErrorMessage error_;
+  libpng::ErrorMessage error_;
   png_uint_32 width_ = 0, height_ = 0;
   int bit_depth_ = 0, channels_ = 0;
   png_size_t row_bytes_ = 0;
