@@ -4,7 +4,6 @@
 
 #include <cerrno>
 #include <csetjmp>
-#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <string>
