@@ -152,8 +152,8 @@ std::vector<Code> quantise(const Image& image) {
   return codes;
 }
 
-// "cannot create image: ...": where the folder is missing, in those plain words (the
-// writer's own message would name the temporary).
+// "cannot create image: ...": where the folder is missing, in those plain words (OpenImageIO's
+// own message would name the temporary).
 [[noreturn]] void throw_cannot_create(const std::filesystem::path& file, const std::string& message) {
   const std::filesystem::path folder = file.parent_path();
   if (!folder.empty() && !std::filesystem::is_directory(folder))
@@ -179,21 +179,6 @@ void write_with_oiio(const std::filesystem::path& file, const std::filesystem::p
   }
 }
 
-// Writes `codes` (`bits` per value) as a PNG to `temp` with libpng.
-void write_png_file(const std::filesystem::path& file, const std::filesystem::path& temp, const Image& image,
-                    int bits, const void* codes) {
-  std::FILE* stream = std::fopen(temp.c_str(), "wb");
-  if (!stream) throw_cannot_create(file, std::strerror(errno));
-  try {
-    write_png_codes(file, stream, image.width, image.height, image.channels, bits, codes);
-  } catch (...) {
-    std::fclose(stream);
-    throw;
-  }
-  // The last buffered bytes reach the disk only now: a full disk may show here first.
-  if (std::fclose(stream) != 0) throw InputError(file, std::string("cannot finish image: ") + std::strerror(errno));
-}
-
 }  // namespace
 
 Image read_image(const std::filesystem::path& file) {
@@ -204,7 +189,7 @@ Image read_image(const std::filesystem::path& file) {
   const PluginReader in = open_input(file, format.oiio_name, spec);
   Image image(spec.width, spec.height, spec.channels);
   Outcome outcome;
-  if (!in.get_deleter().api->read_float(in.get(), image.data.data(), outcome)) {
+  if (!oiio_plugin_for(file).read_float(in.get(), image.data.data(), outcome)) {
     if (outcome.failure == Failure::damaged_data) throw InputError(file, "damaged image data: " + outcome.message);
     throw InputError(file, "cannot decode image: " + outcome.message);
   }
@@ -262,13 +247,16 @@ void write_png(const Image& image, const std::filesystem::path& file, int bits) 
   if (image.channels > kMaxPngChannels)
     throw ArgumentError(file.string() + ": PNG holds at most 4 channels, not " +
                         std::to_string(image.channels));
-  if (bits == 8) {
-    const std::vector<std::uint8_t> codes = quantise<std::uint8_t>(image);
-    write_atomically(file, [&](const std::filesystem::path& temp) { write_png_file(file, temp, image, 8, codes.data()); });
-  } else {
-    const std::vector<std::uint16_t> codes = quantise<std::uint16_t>(image);
-    write_atomically(file, [&](const std::filesystem::path& temp) { write_png_file(file, temp, image, 16, codes.data()); });
-  }
+  // Both depths through one writer: `codes` is the vector of either width.
+  auto write = [&](const auto& codes) {
+    write_stream_atomically(file, [&](std::ostream& out) {
+      write_png_codes(file, out, image.width, image.height, image.channels, bits, codes.data());
+    });
+  };
+  if (bits == 8)
+    write(quantise<std::uint8_t>(image));
+  else
+    write(quantise<std::uint16_t>(image));
 }
 
 void write_float_image(const Image& image, const std::filesystem::path& file) {

@@ -4,7 +4,6 @@
 
 #include <cerrno>
 #include <csetjmp>
-#include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -16,12 +15,15 @@ namespace splat {
 namespace {
 
 // libpng's own writer says only "Write Error"; the system's reason (a full disk) is clearer.
-void write_to_file(png_structp png, png_bytep data, png_size_t length) {
-  auto* stream = static_cast<std::FILE*>(png_get_io_ptr(png));
-  if (std::fwrite(data, 1, length, stream) != length) png_error(png, std::strerror(errno));
+void write_to_stream(png_structp png, png_bytep data, png_size_t length) {
+  auto* out = static_cast<std::ostream*>(png_get_io_ptr(png));
+  errno = 0;
+  if (!out->write(reinterpret_cast<const char*>(data), std::streamsize(length)))
+    png_error(png, errno ? std::strerror(errno) : "the stream refused the bytes");
 }
 
-void flush_file(png_structp png) { std::fflush(static_cast<std::FILE*>(png_get_io_ptr(png))); }
+// The caller flushes and closes the stream, and checks it then (write_stream_atomically).
+void flush_stream(png_structp) {}
 
 int color_type_of(int channels) {
   switch (channels) {
@@ -35,14 +37,14 @@ int color_type_of(int channels) {
 // libpng's write state.
 class PngEncoder {
  public:
-  PngEncoder(const std::filesystem::path& file, std::FILE* stream) : file_(file) {
+  PngEncoder(const std::filesystem::path& file, std::ostream& out) : file_(file) {
     png_ = png_create_write_struct(PNG_LIBPNG_VER_STRING, &error_, libpng::on_error, libpng::on_warning);
     if (png_) info_ = png_create_info_struct(png_);
     if (!png_ || !info_) {
       release();
       throw InputError(file, "cannot write image: out of memory");
     }
-    png_set_write_fn(png_, stream, write_to_file, flush_file);
+    png_set_write_fn(png_, &out, write_to_stream, flush_stream);
   }
   ~PngEncoder() { release(); }
   PngEncoder(const PngEncoder&) = delete;
@@ -85,9 +87,9 @@ class PngEncoder {
 
 }  // namespace
 
-void write_png_codes(const std::filesystem::path& file, std::FILE* stream, int width, int height, int channels,
+void write_png_codes(const std::filesystem::path& file, std::ostream& out, int width, int height, int channels,
                      int bits, const void* codes) {
-  PngEncoder encoder(file, stream);
+  PngEncoder encoder(file, out);
   encoder.write(width, height, channels, bits, codes);
 }
 
