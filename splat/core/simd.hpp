@@ -5,8 +5,11 @@
 // instruction per kLanes pixels. Eight, not sixteen, even where the CPU has AVX-512: most
 // splats are a few pixels wide, and 8-pixel chunks evaluate 36 % fewer pixels than whole
 // 16-pixel rows (conformance model at 800×800: 7.7 against 12.2 million per frame), for an
-// 18 % faster blend on the AMD EPYC this project measures on. The blend's backward also takes
-// whole 16-lane rows (f32x16 below) where a splat blended in both chunks of a row.
+// 18 % faster blend on the AMD EPYC this project measures on. On an Intel Xeon with full-width
+// AVX-512 a 16-lane step costs about 1.2 times an 8-lane one, and whole rows take 0.75–0.78
+// times the chunk steps, so there too the gain would be nil (bench/HISTORY.md, issue 39,
+// nineteenth session). The blend's backward also takes whole 16-lane rows (f32x16 below)
+// where a splat blended in both chunks of a row.
 //
 // The helpers below have scalar overloads too, so templated code (the shared compositor)
 // runs unchanged on `float` + `bool` (one ray) or `f32v` + `i32v` (kLanes pixels).
