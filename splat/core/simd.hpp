@@ -8,7 +8,9 @@
 // 18 % faster blend on the AMD EPYC this project measures on. On an Intel Xeon with full-width
 // AVX-512 a 16-lane step costs about 1.2 times an 8-lane one, and whole rows take 0.75–0.78
 // times the chunk steps, so there too the gain would be nil (bench/HISTORY.md, issue 39,
-// nineteenth session). The blend's backward also takes whole 16-lane rows (f32x16 below)
+// nineteenth session). On an AMD family 26 CPU (twentieth session) a 16-lane step costs only
+// 1.05 times an 8-lane one: whole rows would take about 0.8 of the step time there, a gain
+// this code does not yet take. The blend's backward also takes whole 16-lane rows (f32x16 below)
 // where a splat blended in both chunks of a row.
 //
 // The helpers below have scalar overloads too, so templated code (the shared compositor)
