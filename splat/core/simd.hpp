@@ -221,8 +221,14 @@ inline i32x16 concat(i32v low, i32v high) {
 }
 inline f32v low_half(f32x16 v) { return __builtin_shufflevector(v, v, 0, 1, 2, 3, 4, 5, 6, 7); }
 inline f32v high_half(f32x16 v) { return __builtin_shufflevector(v, v, 8, 9, 10, 11, 12, 13, 14, 15); }
+inline i32v low_half(i32x16 v) { return __builtin_shufflevector(v, v, 0, 1, 2, 3, 4, 5, 6, 7); }
+inline i32v high_half(i32x16 v) { return __builtin_shufflevector(v, v, 8, 9, 10, 11, 12, 13, 14, 15); }
 
 inline f32x16 select(i32x16 mask, f32x16 a, f32x16 b) { return mask ? a : b; }
+inline i32x16 select(i32x16 mask, i32x16 a, i32x16 b) { return mask ? a : b; }
+inline i32x16 mask_and(i32x16 a, i32x16 b) { return a & b; }
+inline i32x16 mask_and_not(i32x16 a, i32x16 b) { return a & ~b; }
+inline i32x16 mask_or(i32x16 a, i32x16 b) { return a | b; }
 inline bool any(i32x16 mask) {
 #if defined(__AVX512F__)
   const __m512i m = reinterpret_cast<__m512i>(mask);
@@ -232,6 +238,7 @@ inline bool any(i32x16 mask) {
              __builtin_shufflevector(mask, mask, 8, 9, 10, 11, 12, 13, 14, 15));
 #endif
 }
+inline int count(i32x16 mask) { return count(low_half(mask)) + count(high_half(mask)); }
 // As the 8-lane min and max: the second operand when either is NaN.
 inline f32x16 min(f32x16 a, f32x16 b) {
 #if defined(__AVX512F__)
@@ -288,18 +295,26 @@ F scale_by_power_of_two(F p, F n) {
 #endif
 }  // namespace detail
 
-// 2^x for x <= 0, flushing toward 0 below -126, lane-wise on 8 or 16 lanes. The rasterizer's
+// Where exp2_nonpositive stops: below it every lane gets 2^kExp2Floor. An α there is at most
+// 2^−64, far below the 1/255 that draws, so no image or gradient can tell; a floor at the
+// float range's end (−126) gave subnormal numbers (the polynomial, below 1, times 2^−126, and
+// α = o·that), which some cores take a slow path for: on the AMD family 26 EPYC the forward
+// blend of the conformance frame at 800² took 6.1 ms with −126 and 5.6 with −64, in whole
+// 16-pixel rows (more far-off lanes) 9.0 against 5.2 (bench/HISTORY.md, issue 39, 21st session).
+constexpr float kExp2Floor = -64.0f;
+
+// 2^x for kExp2Floor <= x <= 0 (2^kExp2Floor below), lane-wise on 8 or 16 lanes. The rasterizer's
 // α is o·2^(power·log2 e): log2 e is folded into the exponent's coefficients once per splat,
 // so the range reduction is exact (x = n + f, n = round(x), f = x − n in [−½, ½] without
 // rounding) and one step shorter than e^x's (which must round x·log2 e, then subtract n·ln 2).
 // The blend waits on this chain at every pixel-Gaussian pair, so it is kept short: a
 // degree-6 minimax polynomial for 2^f by Estrin's scheme (three dependent steps after f),
 // times 2^n. Relative error below 1.71e-7, 1.5 ulp (measured against double exp2 at every
-// float from 0 to −126). Deterministic on every machine (no libm call), which keeps renders
+// float from 0 to −126 before the floor was raised to kExp2Floor). Deterministic on every machine (no libm call), which keeps renders
 // identical across platforms and thread counts.
 template <class F>
 F exp2_nonpositive(F x) {
-  x = max(x, F{} - 126.0f);
+  x = max(x, F{} + kExp2Floor);
   const F n = detail::round_nearest(x);
   const F f = x - n;
   // 2^f ≈ (c0 + c1 f) + f²(c2 + c3 f) + f⁴(c4 + c5 f + c6 f²).

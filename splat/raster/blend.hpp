@@ -14,8 +14,18 @@ namespace splat {
 // bit-identical for any thread count. `result` must be sized for width x height. With
 // `for_backward`, also records where each list entry blended (RasterFrame::entry_chunks),
 // which blend_tiles_backward needs; a render only looked at leaves it out (a few per cent).
+// How the walk takes a tile's pixels: 8-pixel chunks, two per row, or whole 16-pixel rows.
+// The image, the record and every count of pixels blended are the same bits either way; the
+// cost differs by CPU (see default_blend_walk).
+enum class BlendWalk { kChunks, kRows };
+
+// The walk for this CPU (SPLAT_BLEND_WALK=chunks|rows in the environment overrides it, for
+// benchmarks).
+BlendWalk default_blend_walk();
+
 void blend_tiles(const ProjectedGaussians& projected, const TileBins& bins, const TileGrid& grid,
-                 const float background[3], bool for_backward, RenderResult& result);
+                 const float background[3], bool for_backward, RenderResult& result,
+                 BlendWalk walk = default_blend_walk());
 
 // The work of one blend_tiles call, for benchmarks: the Gaussian–tile pairs the lists hold and
 // how many of them could draw anything, and the pixel evaluations the walk makes.
@@ -40,6 +50,6 @@ struct BlendWorkCounts {
 };
 
 // Counts by walking a rendered frame again with counters (single-threaded; for benchmarks).
-BlendWorkCounts count_blend_work(const RenderResult& rendered);
+BlendWorkCounts count_blend_work(const RenderResult& rendered, BlendWalk walk = default_blend_walk());
 
 }  // namespace splat

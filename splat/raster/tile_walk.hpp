@@ -22,9 +22,11 @@ constexpr int kChunksPerRow = kTileSize / kLanes;
 constexpr int kChunksPerTile = kTileSize * kChunksPerRow;
 static_assert(kTileSize % kLanes == 0);
 
-inline f32v lane_index() {
-  f32v v;
-  for (int i = 0; i < kLanes; ++i) v[i] = float(i);
+// 0, 1, 2, … in the lanes of an 8-lane chunk (or, with F = f32x16, a 16-lane row).
+template <class F = f32v>
+inline F lane_index() {
+  F v;
+  for (int i = 0; i < int(sizeof(F) / sizeof(float)); ++i) v[i] = float(i);
   return v;
 }
 
