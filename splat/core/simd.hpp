@@ -9,8 +9,8 @@
 // AVX-512 a 16-lane step costs about 1.2 times an 8-lane one, and whole rows take 0.75–0.78
 // times the chunk steps, so there too the gain would be nil (bench/HISTORY.md, issue 39,
 // nineteenth session). On an AMD family 26 CPU (twentieth session) a 16-lane step costs only
-// 1.05 times an 8-lane one: whole rows would take about 0.8 of the step time there, a gain
-// this code does not yet take. The blend's backward also takes whole 16-lane rows (f32x16 below)
+// 1.05 times an 8-lane one, so there the forward blend walks whole 16-lane rows
+// (blend.cpp, BlendWalk). The blend's backward also takes whole 16-lane rows (f32x16 below)
 // where a splat blended in both chunks of a row.
 //
 // The helpers below have scalar overloads too, so templated code (the shared compositor)
@@ -299,8 +299,9 @@ F scale_by_power_of_two(F p, F n) {
 // 2^−64, far below the 1/255 that draws, so no image or gradient can tell; a floor at the
 // float range's end (−126) gave subnormal numbers (the polynomial, below 1, times 2^−126, and
 // α = o·that), which some cores take a slow path for: on the AMD family 26 EPYC the forward
-// blend of the conformance frame at 800² took 6.1 ms with −126 and 5.6 with −64, in whole
-// 16-pixel rows (more far-off lanes) 9.0 against 5.2 (bench/HISTORY.md, issue 39, 21st session).
+// blend of the conformance frame at 800² in 8-pixel chunks took 11.5 ms at one thread with
+// −126 and 11.1 with −64, in whole 16-pixel rows (more far-off lanes) 9.0 against 5.2 ms at
+// two threads (bench/HISTORY.md, issue 39, 21st session).
 constexpr float kExp2Floor = -64.0f;
 
 // 2^x for kExp2Floor <= x <= 0 (2^kExp2Floor below), lane-wise on 8 or 16 lanes. The rasterizer's
