@@ -20,7 +20,7 @@ namespace splat {
 enum class BlendWalk { kChunks, kRows };
 
 // The walk for this CPU (SPLAT_BLEND_WALK=chunks|rows in the environment overrides it, for
-// benchmarks).
+// benchmarks; another value is warned about on stderr and ignored).
 BlendWalk default_blend_walk();
 
 void blend_tiles(const ProjectedGaussians& projected, const TileBins& bins, const TileGrid& grid,
