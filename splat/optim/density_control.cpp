@@ -29,16 +29,14 @@ void require_model_shape(const GaussianModel& model, const GaussianModel& moment
 
 void AlignedRows::append_copies(const std::vector<std::size_t>& sources, const GaussianModel& born) {
   model.append_rows(born);
-  adam.first_moment.append_zero_rows(sources.size());
-  adam.second_moment.append_zero_rows(sources.size());
+  for (GaussianModel* state : adam.rows()) state->append_zero_rows(sources.size());
   for (std::vector<float>* array : stats)
     for (std::size_t s : sources) array->push_back((*array)[s]);
 }
 
 void AlignedRows::keep(const std::vector<std::uint8_t>& flags) {
   model.keep_rows(flags);
-  adam.first_moment.keep_rows(flags);
-  adam.second_moment.keep_rows(flags);
+  for (GaussianModel* state : adam.rows()) state->keep_rows(flags);
   for (std::vector<float>* array : stats) {
     std::size_t out = 0;
     for (std::size_t i = 0; i < flags.size(); ++i)
@@ -259,10 +257,7 @@ void reset_opacity(GaussianModel& model, AdamState& adam, float cap) {
   require_model_shape(model, adam.first_moment, "first moment");
   require_model_shape(model, adam.second_moment, "second moment");
   for (float& stored : model.opacity_logits) stored = logit(std::min(sigmoid(stored), cap));
-  std::fill(adam.first_moment.opacity_logits.begin(), adam.first_moment.opacity_logits.end(),
-            0.0f);
-  std::fill(adam.second_moment.opacity_logits.begin(),
-            adam.second_moment.opacity_logits.end(), 0.0f);
+  for (GaussianModel* state : adam.rows()) std::fill(state->opacity_logits.begin(), state->opacity_logits.end(), 0.0f);
 }
 
 }  // namespace splat

@@ -131,9 +131,10 @@ class DensityControl {
 
 // ---- Pieces the strategies share ------------------------------------------------------
 
-// The same row operations on a model, both Adam moments and any per-row statistics, so they
-// stay aligned: new rows get zero moments (the official concatenates zeros) and a copy of
-// their source's statistics; the shared Adam step count is kept.
+// The same row operations on a model, its Adam state's rows (AdamState::rows: both moments and
+// any parameter average's offset) and any per-row statistics, so they stay aligned: new rows
+// get zero moments (the official concatenates zeros), a zero offset (their average starts at
+// their parameters) and a copy of their source's statistics; the shared Adam step count is kept.
 struct AlignedRows {
   GaussianModel& model;
   AdamState& adam;
@@ -168,7 +169,8 @@ GaussianModel split_offspring(const GaussianModel& model, const std::vector<std:
                               std::vector<std::size_t>& offspring_sources);
 
 // Caps every opacity at `cap`: stored ← logit(min(sigmoid(stored), cap)), and zeroes
-// the opacity moments (the official replace_tensor_to_optimizer); step count kept.
+// the opacity moments (the official replace_tensor_to_optimizer; and the parameter average's
+// offset, if one is kept, so the average restarts at the capped values); step count kept.
 void reset_opacity(GaussianModel& model, AdamState& adam, float cap);
 
 }  // namespace splat

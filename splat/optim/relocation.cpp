@@ -28,8 +28,7 @@ void reshape_sources(GaussianModel& model, AdamState& adam, const std::vector<in
     model.opacity_logits[i] = logit(shape.opacity);
     const float log_ratio = std::log(shape.scale_ratio);
     for (int a = 0; a < 3; ++a) model.log_scales[3 * i + a] += log_ratio;
-    adam.first_moment.zero_row(i);
-    adam.second_moment.zero_row(i);
+    for (GaussianModel* state : adam.rows()) state->zero_row(i);
   }
 }
 
@@ -93,8 +92,7 @@ std::size_t relocate_rows(AlignedRows& rows, const std::vector<std::size_t>& tar
   for (std::size_t j = 0; j < targets.size(); ++j) {
     const std::size_t t = targets[j], s = sources[j];
     model.copy_row(t, model, s);
-    rows.adam.first_moment.zero_row(t);
-    rows.adam.second_moment.zero_row(t);
+    for (GaussianModel* state : rows.adam.rows()) state->zero_row(t);
     for (std::vector<float>* array : rows.stats) (*array)[t] = (*array)[s];
   }
   return targets.size();

@@ -5,7 +5,8 @@
 // second moments (five each), then the density strategy's statistics
 // (DensityStrategy::checkpoint_arrays: three for the official strategy, in the order every
 // version-1 checkpoint has them), the per-view corrections' values and moments, and while the
-// validation holdout is undecided and has a best model, that model's five groups.
+// validation holdout is undecided and has a best model, that model's five groups, and while a
+// parameter average is kept (the header's "parameter_average_from"), its offset's five groups.
 #include <algorithm>
 #include <cstdio>
 #include <array>
@@ -74,6 +75,7 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
   header["rng"] = rng_state.str();
   header["strategy_state"] = strategy_->checkpoint_state();
   header["validation"] = holdout_.checkpoint_state();
+  if (average_start_) header["parameter_average_from"] = *average_start_;
   // The training views' pose corrections and exposure maps, those that are on.
   const auto per_view = corrections_.states();
   for (const auto& state : per_view) header[state.steps_key] = state.adam->steps();
@@ -94,6 +96,8 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
         write_array(out, a);
     if (const GaussianModel* best = holdout_.checkpoint_model())
       for (const ParameterGroup& group : kParameterGroups) write_array(out, group.of(*best));
+    if (adam_.averaging)
+      for (const ParameterGroup& group : kParameterGroups) write_array(out, group.of(adam_.average_offset));
   });
 }
 
@@ -154,6 +158,9 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file, const Give
     // The checkpoint's config also says which views the validation holdout takes.
     holdout_ = ValidationHoldout(dataset_, config_.validation);
     holdout_.checkpoint_state_loaded(header.value("validation", nlohmann::json()));
+    average_start_.reset();
+    if (const auto from = header.find("parameter_average_from"); from != header.end())
+      average_start_ = read_setting<int>(*from, "parameter_average_from", iterations);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(file, "checkpoint header is malformed: " + json_error_text(e));
   } catch (const ArgumentError& e) {
@@ -176,6 +183,13 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file, const Give
     for (std::vector<float>& a : arrays) read_array(in, a, remaining, file);
   if (GaussianModel* best = holdout_.checkpoint_model())
     for (const ParameterGroup& group : kParameterGroups) read_array(in, group.of(*best), remaining, file);
+  adam_.averaging = average_start_.has_value();
+  adam_.average_offset = GaussianModel{};
+  adam_.average_offset.sh_degree = model_.sh_degree;
+  if (adam_.averaging)
+    for (const ParameterGroup& group : kParameterGroups)
+      read_array(in, group.of(adam_.average_offset), remaining, file);
+  averaged_model_iteration_.reset();
   expect_end_of_file(in, file, "the checkpoint's last array");
   try {
     for (std::size_t k = 0; k < per_view.size(); ++k) {
@@ -183,17 +197,18 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file, const Give
       per_view[k].adam->restore(a[0], a[1], a[2], header.at(per_view[k].steps_key).get<std::vector<long long>>());
     }
     model_.check_consistent();
-    adam_.first_moment.check_consistent();
-    adam_.second_moment.check_consistent();
+    std::vector<GaussianModel*> rows = adam_.rows();
+    for (const GaussianModel* g : rows) g->check_consistent();
     // A non-finite value would make the first step's model, and the last good one, non-finite.
     const auto finite = [](float v) { return std::isfinite(v); };
-    for (const GaussianModel* g : {&model_, &adam_.first_moment, &adam_.second_moment})
+    rows.insert(rows.begin(), &model_);
+    for (const GaussianModel* g : rows)
       for (const ParameterGroup& group : kParameterGroups)
         if (!std::all_of(group.of(*g).begin(), group.of(*g).end(), finite))
-          throw ArgumentError(std::string(g == &model_ ? "a model" : "an Adam moment") +
-                              " value is not finite");
-    if (adam_.first_moment.size() != model_.size() || adam_.second_moment.size() != model_.size())
-      throw ArgumentError("the Adam moments and the model disagree in length");
+          throw ArgumentError(std::string(g == &model_ ? "a model" : "an Adam state") + " value is not finite");
+    for (const GaussianModel* g : rows)
+      if (g->size() != model_.size())
+        throw ArgumentError("the Adam state (moments, parameter average) and the model disagree in length");
     strategy_->checkpoint_loaded(header.value("strategy_state", nlohmann::json::object()), model_.size());
     holdout_.checkpoint_model_loaded(model_.sh_degree);
   } catch (const ArgumentError& e) {

@@ -153,6 +153,7 @@ AdamSettings SplatTrainer::adam_settings() const {
   // One step of a batch of B stands for B steps of one view: the moments forget as much.
   settings.beta1 = std::pow(settings.beta1, double(config_.batch));
   settings.beta2 = std::pow(settings.beta2, double(config_.batch));
+  settings.average_decay = std::pow(double(config_.parameter_average_decay), double(config_.batch));
   return settings;
 }
 
@@ -220,6 +221,7 @@ void SplatTrainer::validate_if_due() {
   // so that a checkpoint of it is consistent; nothing trains on it any more (finished()).
   model_ = holdout_.best_model();
   adam_.reset_like(model_);
+  average_start_.reset();
   strategy_ = make_density_strategy(config_, dataset_, model_.size());
   last_good_model_ = model_;
 }
@@ -263,6 +265,11 @@ void SplatTrainer::step_model(const ReducedBatch& batch, const DensityStepReport
   active.opacity = !density.opacity_reset;
   // The bands above the active degree have had no gradient yet (none is rendered with them).
   active.sh_degree = active_sh_degree_;
+  if (config_.parameter_average_decay > 0 && !adam_.averaging &&
+      schedule_iteration(iteration_ + 1) >= config_.parameter_average_from * config_.position_lr_max_steps) {
+    adam_.start_average(model_);
+    average_start_ = iteration_;
+  }
   if (far_steps_.active()) means_before_step_ = model_.means;
   adam_step(model_, batch.gradient, adam_, lr, adam_settings(), active, batch.sh_factors);
   if (far_steps_.active()) scale_far_steps(model_.means, means_before_step_, far_steps_);
@@ -285,17 +292,26 @@ void SplatTrainer::check_parameters_finite() const {
     if (!all_finite(group.of(model_))) throw TrainingDiverged(iteration_, group.name);
 }
 
+const GaussianModel& SplatTrainer::output_model() const {
+  if (!adam_.averaging) return model_;
+  if (averaged_model_iteration_ != iteration_) {
+    averaged_model_ = adam_.averaged(model_);
+    averaged_model_iteration_ = iteration_;
+  }
+  return averaged_model_;
+}
+
 Image SplatTrainer::render(const Camera& camera) const {
   Rasterizer rasterizer;
   RenderResult result;
   RenderSettings settings = render_settings();
   settings.for_backward = false;  // a render to look at or score
-  rasterizer.render(model_, camera, settings, result);
+  rasterizer.render(output_model(), camera, settings, result);
   return clamped(result.color);
 }
 
 Camera SplatTrainer::scoring_camera(const DatasetView& view) const {
-  return corrections_.scoring_camera(model_, view, render_settings());
+  return corrections_.scoring_camera(output_model(), view, render_settings());
 }
 
 std::optional<double> SplatTrainer::test_psnr_at_recorded_poses() const {

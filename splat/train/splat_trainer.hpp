@@ -64,7 +64,13 @@ class SplatTrainer {
   bool finished() const { return holdout_.restored(); }
   const ValidationHoldout& validation() const { return holdout_; }
   int active_sh_degree() const { return active_sh_degree_; }
+  // The parameters Adam steps (the iterate).
   const GaussianModel& model() const { return model_; }
+  // The model the run scores, renders and saves: the parameter average once one is kept
+  // (parameter_average_decay), otherwise the parameters themselves.
+  const GaussianModel& output_model() const;
+  // The iteration the parameter average started at (none while there is none).
+  std::optional<int> parameter_average_start() const { return average_start_; }
   // The gradient the last step gave Adam: the mean of its batch's (with any regulariser the
   // strategy added). A batch of one view gives Adam its SH gradient in factored form
   // (sh_gradient_factors.hpp): then this model's SH rows are not that gradient.
@@ -149,6 +155,10 @@ class SplatTrainer {
   FarSteps far_steps_;                     // off unless the start was random
   std::vector<float> means_before_step_;   // what scale_far_steps measures the step from
   AdamState adam_;
+  std::optional<int> average_start_;  // the iteration before the average's first step
+  // output_model()'s average, formed when first asked for after a step.
+  mutable GaussianModel averaged_model_;
+  mutable std::optional<int> averaged_model_iteration_;
   std::unique_ptr<DensityStrategy> strategy_;
   ResolutionSchedule resolution_;
   std::mt19937 rng_;

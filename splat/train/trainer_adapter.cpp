@@ -70,7 +70,7 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
   }
   std::string model_size() const override { return std::to_string(num_gaussians()) + " Gaussians"; }
   std::string model_file_name() const override { return "model.ply"; }
-  void write_model(const std::filesystem::path& file) const override { write_ply(trainer_.model(), file); }
+  void write_model(const std::filesystem::path& file) const override { write_ply(trainer_.output_model(), file); }
   void write_last_good_model(const std::filesystem::path& file) const override {
     write_ply(trainer_.last_good_model(), file);
   }
@@ -85,6 +85,8 @@ class SplatAdapter final : public DelegatingAdapter<SplatTrainer, SplatTrainingC
     if (const nlohmann::json v = trainer_.validation().metrics(); !v.is_null()) m["validation"] = v;
     if (const ResolutionSchedule& r = trainer_.resolution_schedule(); r.start_divisor() > 1)
       m["resolution_warmup"] = {{"start_divisor", r.start_divisor()}, {"steps", r.steps()}};
+    if (const std::optional<int> start = trainer_.parameter_average_start())
+      m["parameter_average"] = {{"decay", trainer_.config().parameter_average_decay}, {"from_iteration", *start}};
     if (trainer_.config().refine_poses) m["pose_refinement"] = pose_refinement_metrics();
     if (trainer_.config().exposure_compensation) m["exposure_compensation"] = exposure_metrics();
   }

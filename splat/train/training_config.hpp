@@ -67,6 +67,14 @@ struct SplatTrainingConfig {
   // appearance_lr_decay_from to position_lr_max_steps (1 = constant, the official).
   float appearance_lr_final_factor = 1.0f;
   int appearance_lr_decay_from = 0;
+  // Above 0, the model a run scores and saves is an exponential moving average of the
+  // parameters Adam steps through (Polyak averaging; AdamSettings::average_decay), from the
+  // schedule's fraction parameter_average_from on: each step moves the average
+  // (1 − parameter_average_decay) of the way to the parameters, so it spans about the last
+  // 1/(1 − decay) steps. At constant rates the last iterates scatter around the minimum by
+  // their gradient noise; their mean sits nearer to it. 0 = off (the official: the iterate).
+  float parameter_average_decay = 0.0f;
+  float parameter_average_from = 0.5f;
 
   int sh_degree = 3;                 // bands the model stores
   int sh_increase_interval = 1000;   // one more active band every this many iterations

@@ -218,25 +218,32 @@ TEST(Adam, BandsAboveTheActiveDegreeAreLeftAsAFullStepLeavesThem) {
   }
 }
 
+// Factors of a random SH gradient for `count` Gaussians: unit view directions, colour
+// gradients with every fifth zero (Gaussians that received none).
+ShGradientFactors random_factors(std::size_t count, int degree, std::mt19937& rng) {
+  std::normal_distribution<float> normal(0.0f, 1.0f);
+  ShGradientFactors factors;
+  factors.degree = degree;
+  factors.resize(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    float d[3] = {normal(rng), normal(rng), normal(rng)};
+    const float length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int k = 0; k < 3; ++k) {
+      factors.direction[k][i] = d[k] / length;
+      factors.color_grad[k][i] = i % 5 == 0 ? 0.0f : normal(rng);
+    }
+  }
+  return factors;
+}
+
 TEST(Adam, ShGradientFactorsStepAsTheirRows) {
   // Adam forms each SH row from its factors as it steps: the parameters and moments must be
   // those the rows themselves give, for any active degree, a count that is not a multiple of
   // the lanes or of Adam's tasks, and either SH group alone.
   const GaussianModel start = test::random_model(4099, 3, 41);
   std::mt19937 rng(43);
-  std::normal_distribution<float> normal(0.0f, 1.0f);
   for (int degree : {0, 2, 3}) {
-    ShGradientFactors factors;
-    factors.degree = degree;
-    factors.resize(start.size());
-    for (std::size_t i = 0; i < start.size(); ++i) {
-      float d[3] = {normal(rng), normal(rng), normal(rng)};
-      const float length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-      for (int k = 0; k < 3; ++k) {
-        factors.direction[k][i] = d[k] / length;
-        factors.color_grad[k][i] = i % 5 == 0 ? 0.0f : normal(rng);  // some without a gradient
-      }
-    }
+    const ShGradientFactors factors = random_factors(start.size(), degree, rng);
     GaussianModel rows = test::random_model(start.size(), 3, 44);
     const int width = start.sh_coefficients() * 3;
     for (std::size_t first = 0; first < start.size(); first += simd::kLanes)
@@ -314,6 +321,82 @@ TEST(Adam, BitIdenticalForAnyThreadCount) {
   EXPECT_EQ(s1.first_moment.sh, s4.first_moment.sh);
   EXPECT_EQ(s1.second_moment.sh, s4.second_moment.sh);
   EXPECT_NE(p1.sh, start.sh);
+}
+
+// Every float of the five parameter groups, in kParameterGroups' order.
+std::vector<float> all_values(const GaussianModel& model) {
+  std::vector<float> out;
+  for (const ParameterGroup& group : kParameterGroups)
+    out.insert(out.end(), group.of(model).begin(), group.of(model).end());
+  return out;
+}
+
+TEST(Adam, ParameterAverageLeavesTheStepsAloneAndFollowsTheIterates) {
+  // The average is kept beside the steps: the parameters and moments come out bit for bit as
+  // without it, and the average is the exponential moving average of the iterates, in double
+  // straight from its definition, for every group (both SH rates, the SH factors' path too).
+  const GaussianModel start = test::random_model(37, 3, 41);
+  AdamSettings settings;
+  settings.average_decay = 0.9;
+  std::mt19937 rng(42);
+  for (const auto& [factored, rest] : {std::pair{false, true}, std::pair{true, true}, std::pair{false, false}}) {
+    SCOPED_TRACE(testing::Message() << (factored ? "SH gradient as factors" : "SH gradient as rows")
+                                    << (rest ? "" : ", SH band 0 alone"));
+    AdamGroupMask mask;
+    mask.sh_rest = rest;
+    GaussianModel plain = start, averaged = start;
+    AdamState plain_state, state;
+    plain_state.reset_like(plain);
+    state.reset_like(averaged);
+    state.start_average(averaged);
+    const std::vector<float> initial = all_values(start);
+    std::vector<double> reference(initial.begin(), initial.end());
+    for (int t = 0; t < 12; ++t) {
+      const GaussianModel grads = test::random_model(37, 3, 100 + t);
+      const ShGradientFactors factors = random_factors(start.size(), 3, rng);
+      adam_step(plain, grads, plain_state, distinct_rates(), settings, mask, factored ? &factors : nullptr);
+      adam_step(averaged, grads, state, distinct_rates(), settings, mask, factored ? &factors : nullptr);
+      const std::vector<float> now = all_values(averaged);
+      for (std::size_t i = 0; i < now.size(); ++i) reference[i] = 0.9 * reference[i] + 0.1 * now[i];
+    }
+    EXPECT_EQ(all_values(averaged), all_values(plain));
+    EXPECT_EQ(all_values(state.first_moment), all_values(plain_state.first_moment));
+    EXPECT_EQ(all_values(state.second_moment), all_values(plain_state.second_moment));
+    const std::vector<float> average = all_values(state.averaged(averaged));
+    const std::vector<float> iterate = all_values(averaged);
+    double largest_gap = 0;
+    for (std::size_t i = 0; i < average.size(); ++i) {
+      EXPECT_NEAR(average[i], reference[i], 1e-6 + 1e-6 * std::abs(reference[i])) << "value " << i;
+      largest_gap = std::max(largest_gap, std::abs(double(average[i]) - iterate[i]));
+    }
+    EXPECT_GT(largest_gap, 1e-3);  // the average lags the iterate: it is not the parameters
+  }
+}
+
+TEST(Adam, ParameterAverageFollowsTheRowOperations) {
+  GaussianModel params = test::random_model(5, 1, 51);
+  AdamState state;
+  state.reset_like(params);
+  state.start_average(params);
+  AdamSettings settings;
+  settings.average_decay = 0.5;
+  adam_step(params, test::random_model(5, 1, 52), state, distinct_rates(), settings);
+  ASSERT_EQ(state.rows().size(), 3u);  // both moments and the offset
+  const GaussianModel average = state.averaged(params);
+  // Keep rows 1 and 3, then append a copy of row 0: the kept rows keep their averages, the
+  // new one starts at its parameters.
+  for (GaussianModel* rows : state.rows()) rows->keep_rows({0, 1, 0, 1, 0});
+  params.keep_rows({0, 1, 0, 1, 0});
+  params.append_rows(params.gather_rows({0}));
+  for (GaussianModel* rows : state.rows()) rows->append_zero_rows(1);
+  const GaussianModel after = state.averaged(params);
+  EXPECT_EQ(after.mean(0)[0], average.mean(1)[0]);
+  EXPECT_EQ(after.mean(1)[2], average.mean(3)[2]);
+  EXPECT_EQ(after.mean(2)[1], params.mean(2)[1]);
+  EXPECT_NE(after.mean(0)[0], params.mean(0)[0]);
+  state.reset_like(params);  // a fresh state keeps no average
+  EXPECT_FALSE(state.averaging);
+  EXPECT_EQ(state.rows().size(), 2u);
 }
 
 TEST(LrSchedule, PositionScheduleDecaysLogLinearly) {
