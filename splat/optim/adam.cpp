@@ -29,30 +29,32 @@ struct StepCoefficients {
   float average_decay;          // β_avg, used while a parameter average is kept
 };
 
-// Adam's update of one element, in PyTorch's order term by term (see adam.hpp), and with
-// kAverage the parameter average's offset moved with it. Inlined into the loops below, which
-// the compiler vectorises.
-template <bool kAverage>
-inline void update_element(float& param, float g, float& m, float& v, float* offset, float step_size,
-                           const StepCoefficients& c) {
+// Adam's update of one element, in PyTorch's order term by term (see adam.hpp): the new
+// moments and the step to add to the parameter. Taken by value, so the loops below keep their
+// restrict pointers and the compiler vectorises them.
+struct ElementStep {
+  float m, v, step;
+};
+inline ElementStep adam_element(float g, float m, float v, float step_size, const StepCoefficients& c) {
   const float m_new = m + c.one_minus_beta1 * (g - m);
   const float v_new = v * c.beta2 + c.one_minus_beta2 * g * g;
-  m = m_new;
-  v = v_new;
   const float denom = std::sqrt(v_new) / c.bias_correction2_sqrt + c.epsilon;
-  const float step = (-step_size) * (m_new / denom);
-  param = param + step;
-  if constexpr (kAverage) *offset = c.average_decay * (*offset - step);
+  return {m_new, v_new, (-step_size) * (m_new / denom)};
 }
 
-// The Adam update of `count` consecutive elements with one step size (lr / (1 − β1ᵗ)).
-// Written as a plain loop over restrict pointers so the compiler vectorises it.
+// The Adam update of `count` consecutive elements with one step size (lr / (1 − β1ᵗ)), and
+// with kAverage the parameter average's offsets moved with them (adam.hpp).
 template <bool kAverage>
 void update_elements(float* __restrict param, const float* __restrict grad, float* __restrict m,
                      float* __restrict v, float* __restrict offset, std::size_t count, float step_size,
                      const StepCoefficients& c) {
-  for (std::size_t i = 0; i < count; ++i)
-    update_element<kAverage>(param[i], grad[i], m[i], v[i], kAverage ? &offset[i] : nullptr, step_size, c);
+  for (std::size_t i = 0; i < count; ++i) {
+    const ElementStep e = adam_element(grad[i], m[i], v[i], step_size, c);
+    m[i] = e.m;
+    v[i] = e.v;
+    param[i] = param[i] + e.step;
+    if constexpr (kAverage) offset[i] = c.average_decay * (offset[i] - e.step);
+  }
 }
 
 // The same update over the first `columns` floats of rows `width` floats apart, whose columns
@@ -65,9 +67,13 @@ void update_rows_by_column(float* __restrict param, const float* __restrict grad
                            std::size_t columns, const float* __restrict step_sizes, const StepCoefficients& c) {
   for (std::size_t row = 0; row < rows; ++row) {
     const std::size_t o = row * width;
-    for (std::size_t j = 0; j < columns; ++j)
-      update_element<kAverage>(param[o + j], grad[o + j], m[o + j], v[o + j], kAverage ? &offset[o + j] : nullptr,
-                               step_sizes[j], c);
+    for (std::size_t j = 0; j < columns; ++j) {
+      const ElementStep e = adam_element(grad[o + j], m[o + j], v[o + j], step_sizes[j], c);
+      m[o + j] = e.m;
+      v[o + j] = e.v;
+      param[o + j] = param[o + j] + e.step;
+      if constexpr (kAverage) offset[o + j] = c.average_decay * (offset[o + j] - e.step);
+    }
   }
 }
 
