@@ -42,14 +42,16 @@ inline ElementStep adam_element(float g, float m, float v, float step_size, cons
   return {m_new, v_new, (-step_size) * (m_new / denom)};
 }
 
-// The Adam update of `count` consecutive elements with one step size (lr / (1 − β1ᵗ)), and
-// with kAverage the parameter average's offsets moved with them (adam.hpp).
-template <bool kAverage>
-void update_elements(float* __restrict param, const float* __restrict grad, float* __restrict m,
-                     float* __restrict v, float* __restrict offset, std::size_t count, float step_size,
-                     const StepCoefficients& c) {
+// The Adam update of `count` consecutive elements, element i at step size step_size_of(i)
+// (lr / (1 − β1ᵗ) of its group), and with kAverage the parameter average's offsets moved with
+// them (adam.hpp). The step size comes from a callable so that one loop body serves a run of
+// one group and a row of several; either way the compiler vectorises it.
+template <bool kAverage, typename StepSizeOf>
+[[gnu::always_inline]] inline void update_run(float* __restrict param, const float* __restrict grad,
+                                              float* __restrict m, float* __restrict v, float* __restrict offset,
+                                              std::size_t count, StepSizeOf step_size_of, const StepCoefficients& c) {
   for (std::size_t i = 0; i < count; ++i) {
-    const ElementStep e = adam_element(grad[i], m[i], v[i], step_size, c);
+    const ElementStep e = adam_element(grad[i], m[i], v[i], step_size_of(i), c);
     m[i] = e.m;
     v[i] = e.v;
     param[i] = param[i] + e.step;
@@ -57,23 +59,25 @@ void update_elements(float* __restrict param, const float* __restrict grad, floa
   }
 }
 
-// The same update over the first `columns` floats of rows `width` floats apart, whose columns
-// have their own step sizes (`step_sizes[j]` for column j): every element gets exactly
-// update_elements' arithmetic, in one loop the compiler vectorises across the row instead of
-// a short loop per run of columns.
+// `count` consecutive elements with one step size.
+template <bool kAverage>
+void update_elements(float* __restrict param, const float* __restrict grad, float* __restrict m,
+                     float* __restrict v, float* __restrict offset, std::size_t count, float step_size,
+                     const StepCoefficients& c) {
+  update_run<kAverage>(param, grad, m, v, offset, count, [step_size](std::size_t) { return step_size; }, c);
+}
+
+// The first `columns` floats of rows `width` floats apart, whose columns have their own step
+// sizes (`step_sizes[j]` for column j): one loop across each row instead of a short loop per
+// run of columns.
 template <bool kAverage>
 void update_rows_by_column(float* __restrict param, const float* __restrict grad, float* __restrict m,
                            float* __restrict v, float* __restrict offset, std::size_t rows, std::size_t width,
                            std::size_t columns, const float* __restrict step_sizes, const StepCoefficients& c) {
   for (std::size_t row = 0; row < rows; ++row) {
     const std::size_t o = row * width;
-    for (std::size_t j = 0; j < columns; ++j) {
-      const ElementStep e = adam_element(grad[o + j], m[o + j], v[o + j], step_sizes[j], c);
-      m[o + j] = e.m;
-      v[o + j] = e.v;
-      param[o + j] = param[o + j] + e.step;
-      if constexpr (kAverage) offset[o + j] = c.average_decay * (offset[o + j] - e.step);
-    }
+    update_run<kAverage>(param + o, grad + o, m + o, v + o, kAverage ? offset + o : nullptr, columns,
+                         [step_sizes](std::size_t j) { return step_sizes[j]; }, c);
   }
 }
 
@@ -111,7 +115,7 @@ ArrayViews views(const ParameterGroup& group, GaussianModel& params, const Gauss
           group.of(grads).data(),
           group.of(state.first_moment).data(),
           group.of(state.second_moment).data(),
-          state.averaging ? group.of(state.average_offset).data() : nullptr,
+          state.averaging() ? group.of(state.average_offset).data() : nullptr,
           group.width(params.sh_degree)};
 }
 
@@ -198,25 +202,25 @@ void AdamState::reset_like(const GaussianModel& model) {
     moment->resize(model.size());
   }
   average_offset = GaussianModel{};
-  averaging = false;
+  average_start.reset();
 }
 
-void AdamState::start_average(const GaussianModel& model) {
+void AdamState::start_average(const GaussianModel& model, int iteration) {
   average_offset = GaussianModel{};
   average_offset.sh_degree = model.sh_degree;
   average_offset.resize(model.size());
-  averaging = true;
+  average_start = iteration;
 }
 
 GaussianModel AdamState::averaged(const GaussianModel& params) const {
   GaussianModel average = params;
-  if (averaging) average.add(average_offset);
+  if (averaging()) average.add(average_offset);
   return average;
 }
 
 std::vector<GaussianModel*> AdamState::rows() {
   std::vector<GaussianModel*> out{&first_moment, &second_moment};
-  if (averaging) out.push_back(&average_offset);
+  if (averaging()) out.push_back(&average_offset);
   return out;
 }
 
@@ -228,7 +232,7 @@ void adam_step(GaussianModel& params, const GaussianModel& grads, AdamState& sta
   if (sh_factors) require_size(params, *sh_factors);
   require_shape(params, state.first_moment, "the first moment");
   require_shape(params, state.second_moment, "the second moment");
-  if (state.averaging) require_shape(params, state.average_offset, "the parameter average");
+  if (state.averaging()) require_shape(params, state.average_offset, "the parameter average");
 
   state.step += 1;
   // Python computes these in double; the kernels then see them as float scalars.
@@ -262,7 +266,7 @@ void adam_step(GaussianModel& params, const GaussianModel& grads, AdamState& sta
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, params.size(), kGaussiansPerTask),
       [&](const tbb::blocked_range<std::size_t>& range) {
-        if (state.averaging) plan.update<true>(range.begin(), range.end());
+        if (state.averaging()) plan.update<true>(range.begin(), range.end());
         else plan.update<false>(range.begin(), range.end());
       },
       tbb::simple_partitioner());

@@ -12,6 +12,7 @@
 //   p ← p − lr/(1 − β1ᵗ) · m / (sqrt(v)/sqrt(1 − β2ᵗ) + ε)
 // and, while a parameter average is kept, with s the step just added to p:
 //   d ← β_avg·(d − s)                 (d = average − p: the average moves to β_avg·a + (1 − β_avg)·p)
+#include <optional>
 #include <vector>
 
 #include "splat/gaussians/gaussian_model.hpp"
@@ -23,7 +24,7 @@ namespace splat {
 // double and only then rounded to float (1 − 0.999f in float would be off by 1.3e-5).
 struct AdamSettings {
   double beta1 = 0.9, beta2 = 0.999, epsilon = 1e-15;
-  // While the state keeps a parameter average (AdamState::averaging), each step moves it
+  // While the state keeps a parameter average (AdamState::averaging()), each step moves it
   // (1 − average_decay) of the way to the stepped parameters: an exponential moving average
   // of the iterates over about the last 1/(1 − average_decay) steps.
   double average_decay = 0.99;
@@ -63,11 +64,13 @@ struct AdamState {
   GaussianModel first_moment;   // m, same shape as the model
   GaussianModel second_moment;  // v
   // The parameter average (Polyak averaging; AdamSettings::average_decay) as its offset from
-  // the parameters, average − parameters, while `averaging`. An offset rather than the average
+  // the parameters, average − parameters, while averaging(). An offset rather than the average
   // itself, so that the row operations that give a new or moved Gaussian zero moments also
   // start its average at its parameters.
   GaussianModel average_offset;
-  bool averaging = false;
+  // The caller's iteration the average started at (its first step follows it); none while
+  // no average is kept. The caller reports it and its checkpoint keeps it.
+  std::optional<int> average_start;
   // Steps taken (bias correction), shared by every group. PyTorch keeps one count per group;
   // they differ only when a group is skipped (AdamGroupMask), which the official trainer does
   // at most once, at iteration 500, where 0.9⁵⁰⁰ makes the difference vanish in float.
@@ -75,8 +78,10 @@ struct AdamState {
 
   // Zero moments shaped like `model` (step count kept), and no average.
   void reset_like(const GaussianModel& model);
-  // Starts the parameter average at `model`'s parameters (a zero offset of its shape).
-  void start_average(const GaussianModel& model);
+  // Starts the parameter average at `model`'s parameters (a zero offset of its shape), at
+  // the caller's `iteration`.
+  void start_average(const GaussianModel& model, int iteration);
+  bool averaging() const { return average_start.has_value(); }
   // The average's parameters: `params` plus the offset (`params` itself without an average).
   GaussianModel averaged(const GaussianModel& params) const;
   // The rows density control must keep aligned with the model's: the moments, and the

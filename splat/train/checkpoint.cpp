@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <fstream>
 #include <sstream>
 
@@ -75,7 +76,7 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
   header["rng"] = rng_state.str();
   header["strategy_state"] = strategy_->checkpoint_state();
   header["validation"] = holdout_.checkpoint_state();
-  if (average_start_) header["parameter_average_from"] = *average_start_;
+  if (adam_.average_start) header["parameter_average_from"] = *adam_.average_start;
   // The training views' pose corrections and exposure maps, those that are on.
   const auto per_view = corrections_.states();
   for (const auto& state : per_view) header[state.steps_key] = state.adam->steps();
@@ -96,7 +97,7 @@ void SplatTrainer::save_checkpoint(const std::filesystem::path& file) const {
         write_array(out, a);
     if (const GaussianModel* best = holdout_.checkpoint_model())
       for (const ParameterGroup& group : kParameterGroups) write_array(out, group.of(*best));
-    if (adam_.averaging)
+    if (adam_.averaging())
       for (const ParameterGroup& group : kParameterGroups) write_array(out, group.of(adam_.average_offset));
   });
 }
@@ -122,6 +123,7 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file, const Give
   if (!in.read(text.data(), std::streamsize(header_size)))
     throw InputError(file, "checkpoint is truncated (header)");
   nlohmann::json header;
+  std::optional<int> average_start;  // the parameter average's, if the run kept one
   try {
     header = nlohmann::json::parse(text);
     SplatTrainingConfig config = config_;
@@ -158,9 +160,8 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file, const Give
     // The checkpoint's config also says which views the validation holdout takes.
     holdout_ = ValidationHoldout(dataset_, config_.validation);
     holdout_.checkpoint_state_loaded(header.value("validation", nlohmann::json()));
-    average_start_.reset();
     if (const auto from = header.find("parameter_average_from"); from != header.end())
-      average_start_ = read_setting<int>(*from, "parameter_average_from", iterations);
+      average_start = read_setting<int>(*from, "parameter_average_from", iterations);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(file, "checkpoint header is malformed: " + json_error_text(e));
   } catch (const ArgumentError& e) {
@@ -183,12 +184,14 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file, const Give
     for (std::vector<float>& a : arrays) read_array(in, a, remaining, file);
   if (GaussianModel* best = holdout_.checkpoint_model())
     for (const ParameterGroup& group : kParameterGroups) read_array(in, group.of(*best), remaining, file);
-  adam_.averaging = average_start_.has_value();
   adam_.average_offset = GaussianModel{};
   adam_.average_offset.sh_degree = model_.sh_degree;
-  if (adam_.averaging)
+  adam_.average_start.reset();
+  if (average_start) {
+    adam_.start_average(model_, *average_start);
     for (const ParameterGroup& group : kParameterGroups)
       read_array(in, group.of(adam_.average_offset), remaining, file);
+  }
   averaged_model_iteration_.reset();
   expect_end_of_file(in, file, "the checkpoint's last array");
   try {

@@ -221,7 +221,6 @@ void SplatTrainer::validate_if_due() {
   // so that a checkpoint of it is consistent; nothing trains on it any more (finished()).
   model_ = holdout_.best_model();
   adam_.reset_like(model_);
-  average_start_.reset();
   strategy_ = make_density_strategy(config_, dataset_, model_.size());
   last_good_model_ = model_;
 }
@@ -265,11 +264,9 @@ void SplatTrainer::step_model(const ReducedBatch& batch, const DensityStepReport
   active.opacity = !density.opacity_reset;
   // The bands above the active degree have had no gradient yet (none is rendered with them).
   active.sh_degree = active_sh_degree_;
-  if (config_.parameter_average_decay > 0 && !adam_.averaging &&
-      schedule_iteration(iteration_ + 1) >= config_.parameter_average_from * config_.position_lr_max_steps) {
-    adam_.start_average(model_);
-    average_start_ = iteration_;
-  }
+  if (config_.parameter_average_decay > 0 && !adam_.averaging() &&
+      schedule_iteration(iteration_ + 1) >= config_.parameter_average_from * config_.position_lr_max_steps)
+    adam_.start_average(model_, iteration_);
   if (far_steps_.active()) means_before_step_ = model_.means;
   adam_step(model_, batch.gradient, adam_, lr, adam_settings(), active, batch.sh_factors);
   if (far_steps_.active()) scale_far_steps(model_.means, means_before_step_, far_steps_);
@@ -293,7 +290,7 @@ void SplatTrainer::check_parameters_finite() const {
 }
 
 const GaussianModel& SplatTrainer::output_model() const {
-  if (!adam_.averaging) return model_;
+  if (!adam_.averaging()) return model_;
   if (averaged_model_iteration_ != iteration_) {
     averaged_model_ = adam_.averaged(model_);
     averaged_model_iteration_ = iteration_;

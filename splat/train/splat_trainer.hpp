@@ -70,7 +70,7 @@ class SplatTrainer {
   // (parameter_average_decay), otherwise the parameters themselves.
   const GaussianModel& output_model() const;
   // The iteration the parameter average started at (none while there is none).
-  std::optional<int> parameter_average_start() const { return average_start_; }
+  std::optional<int> parameter_average_start() const { return adam_.average_start; }
   // The gradient the last step gave Adam: the mean of its batch's (with any regulariser the
   // strategy added). A batch of one view gives Adam its SH gradient in factored form
   // (sh_gradient_factors.hpp): then this model's SH rows are not that gradient.
@@ -155,7 +155,6 @@ class SplatTrainer {
   FarSteps far_steps_;                     // off unless the start was random
   std::vector<float> means_before_step_;   // what scale_far_steps measures the step from
   AdamState adam_;
-  std::optional<int> average_start_;  // the iteration before the average's first step
   // output_model()'s average, formed when first asked for after a step.
   mutable GaussianModel averaged_model_;
   mutable std::optional<int> averaged_model_iteration_;

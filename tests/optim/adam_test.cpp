@@ -348,7 +348,7 @@ TEST(Adam, ParameterAverageLeavesTheStepsAloneAndFollowsTheIterates) {
     AdamState plain_state, state;
     plain_state.reset_like(plain);
     state.reset_like(averaged);
-    state.start_average(averaged);
+    state.start_average(averaged, 0);
     const std::vector<float> initial = all_values(start);
     std::vector<double> reference(initial.begin(), initial.end());
     for (int t = 0; t < 12; ++t) {
@@ -377,7 +377,8 @@ TEST(Adam, ParameterAverageFollowsTheRowOperations) {
   GaussianModel params = test::random_model(5, 1, 51);
   AdamState state;
   state.reset_like(params);
-  state.start_average(params);
+  state.start_average(params, 7);
+  EXPECT_EQ(state.average_start, 7);
   AdamSettings settings;
   settings.average_decay = 0.5;
   adam_step(params, test::random_model(5, 1, 52), state, distinct_rates(), settings);
@@ -395,7 +396,7 @@ TEST(Adam, ParameterAverageFollowsTheRowOperations) {
   EXPECT_EQ(after.mean(2)[1], params.mean(2)[1]);
   EXPECT_NE(after.mean(0)[0], params.mean(0)[0]);
   state.reset_like(params);  // a fresh state keeps no average
-  EXPECT_FALSE(state.averaging);
+  EXPECT_FALSE(state.averaging());
   EXPECT_EQ(state.rows().size(), 2u);
 }
 
