@@ -13,8 +13,8 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <optional>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "splat/core/atomic_file.hpp"
@@ -184,8 +184,7 @@ void SplatTrainer::load_checkpoint(const std::filesystem::path& file, const Give
     for (std::vector<float>& a : arrays) read_array(in, a, remaining, file);
   if (GaussianModel* best = holdout_.checkpoint_model())
     for (const ParameterGroup& group : kParameterGroups) read_array(in, group.of(*best), remaining, file);
-  adam_.average_offset = GaussianModel{};
-  adam_.average_offset.sh_degree = model_.sh_degree;
+  adam_.average_offset = GaussianModel{};  // as reset_like leaves it, unless the run kept an average
   adam_.average_start.reset();
   if (average_start) {
     adam_.start_average(model_, *average_start);
