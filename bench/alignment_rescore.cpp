@@ -7,7 +7,7 @@
 // default to training's (SplatTrainingConfig); the corrections turn about the camera centre.
 // With --training-cameras (the run's cameras_train.json) each test pose is first carried
 // into the model's frame by the similarity the training poses moved by, as the trainer does.
-//   build/bench/splat-alignment-rescore --model M.ply --data DIR [--steps 30] [--lr R]
+//   build/bin/splat-alignment-rescore --model M.ply --data DIR [--steps 30] [--lr R]
 //       [--final-factor F] [--training-cameras FILE] [--threads N]
 #include <algorithm>
 #include <cstdio>

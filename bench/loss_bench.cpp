@@ -1,7 +1,7 @@
 // splat-loss-bench: time of the training loss (L1 + SSIM), forward alone and forward+backward,
 // on a pair of random images. Prints one JSON line with the medians over --repeats calls
 // after a warm-up (the machine is shared, so medians, with the minimum for reference).
-//   build/bench/splat-loss-bench [--width 400] [--height 400] [--threads N] [--repeats 200]
+//   build/bin/splat-loss-bench [--width 400] [--height 400] [--threads N] [--repeats 200]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>

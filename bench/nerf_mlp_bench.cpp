@@ -8,7 +8,7 @@
 // backward) and the nanoseconds per sample. For the encoding it also prints the memory floor:
 // the time of one read at a random place in a buffer the size of its tables, and that time
 // for the 4 cache lines per level a sample in uncached cells reads.
-//   build/bench/splat-nerf-mlp-bench [--samples 65536] [--threads N] [--repeats 5]
+//   build/bin/splat-nerf-mlp-bench [--samples 65536] [--threads N] [--repeats 5]
 #include <algorithm>
 #include <chrono>
 #include <cstdint>

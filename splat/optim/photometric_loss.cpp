@@ -86,7 +86,7 @@ LossValue photometric_loss_core(const T* rendered, const T* target, int width, i
   value.ssim = ssim_forward(rendered, target, shape, v_rendered != nullptr, buffers);
   value.loss = (1 - lambda) * value.l1 + lambda * (1 - value.ssim);
   // ∂L/∂SSIM = −λ.
-  if (v_rendered) ssim_vjp(rendered, target, shape, T(-lambda), v_rendered, buffers);
+  if (v_rendered) ssim_vjp(shape, T(-lambda), v_rendered, buffers);
   return value;
 }
 

@@ -19,95 +19,128 @@ namespace {
 constexpr int R = kSsimRadius;
 constexpr int kMoments = 5;   // the forward blurs x, y, x², y², xy
 constexpr int kPartials = 3;  // and keeps ∂map/∂μx, ∂map/∂(G∗x²), ∂map/∂(G∗xy) for the backward
-// Rows per band, the unit of parallel work. A band's row-blurred fields (the band and R rows of
-// halo either side: 26·W·5 values) stay in the core's cache from the row pass to the column
-// pass, instead of travelling through memory as whole-image planes; the halo rows' row pass is
-// done by both neighbouring bands, identically. Fixed, so the summation order of the mean
-// depends on the image height alone.
-constexpr int kBandRows = 16;
-constexpr int kBandSpan = kBandRows + 2 * R;
+// The unit of parallel work is a tile of output pixels. Within a tile, one channel at a time,
+// the row pass walks down the tile's rows (and R rows of halo above and below), blurring each
+// row once into a ring that holds the last kSsimWindow row-blurred rows of every field; as soon
+// as a row enters, the column pass forms the output row 2R above it. Each ring row is stored
+// twice, at slots s and s + kSsimWindow, so that the window's rows always lie one stride apart
+// from any starting slot. A 64-column tile's ring (5 fields × 22 rows × 64 values, 28 KB in
+// float) stays in the core's first-level cache, where the column pass reads each value 11
+// times. Only the halo rows are blurred twice (by the two tiles they border), so tiles are tall.
+// Every output value is the same sequence of operations whatever the tiling; the tiling fixes
+// only the summation order of the mean, which depends on the image's shape alone.
+constexpr int kTileRows = 64;
+constexpr int kTileColumns = 64;
+constexpr int kRingRows = 2 * kSsimWindow;
+constexpr std::size_t kRingField = std::size_t(kRingRows) * kTileColumns;
 // Channel counts known at compile time let the compiler vectorise the interleaved loads and
 // stores (shuffles instead of gathers); 0 means "read it at run time".
 constexpr int kRuntimeChannels = 0;
 
-// The flat buffer holds, in order:
-//   partials   [C][3][H, W + 2R]   the saved state, zero-padded columns (only when kept)
-//   one workspace per thread slot of the task arena:
-//     input    [2][W + 2R]         one row of one channel of x and y, zero-padded
-//     band     [5][kBandSpan, W]   one channel's row-blurred fields; row j is image row y0 − R + j
-//     out      [C][kBandRows, W]   the band's map rows (forward) or gradient rows (backward)
+// The flat buffer holds, in order, planes of zero-padded rows (column col at index R + col):
+//   inputs     [2][C][H, W + 2R]  x and y, one plane per channel, split once from the
+//                                 interleaved images so that no tile deinterleaves a row again
+//   partials   [C][3][H, W + 2R]  ∂map/∂μx, ∂map/∂(G∗x²), ∂map/∂(G∗xy) (only when kept)
+// (the inputs and partials are the state the vjp consumes), then one workspace per thread slot
+// of the task arena:
+//     ring     [5][kRingRows, kTileColumns]  the last rows of one channel's row-blurred fields
+//     out      [C][kTileRows, kTileColumns]  the map row (forward) or gradient rows (backward)
 struct Layout {
   int width = 0, height = 0, channels = 0;
 
   explicit Layout(SsimShape s) : width(s.width), height(s.height), channels(s.channels) {}
   std::size_t padded_width() const { return std::size_t(width) + 2 * R; }
-  std::size_t partial_plane() const { return std::size_t(height) * padded_width(); }
-  std::size_t partials_size(bool kept) const {
-    return kept ? std::size_t(channels) * kPartials * partial_plane() : 0;
+  std::size_t plane_size() const { return std::size_t(height) * padded_width(); }
+  std::size_t planes_size(bool kept) const {
+    return std::size_t(channels) * (2 + (kept ? kPartials : 0)) * plane_size();
   }
-  std::size_t band_field() const { return std::size_t(kBandSpan) * width; }
   std::size_t workspace_size() const {
-    return 2 * padded_width() + kMoments * band_field() +
-           std::size_t(channels) * kBandRows * width;
+    return kMoments * kRingField + std::size_t(channels) * kTileRows * kTileColumns;
+  }
+  int tiles_across() const { return (width + kTileColumns - 1) / kTileColumns; }
+  int tile_count() const { return tiles_across() * ((height + kTileRows - 1) / kTileRows); }
+};
+
+// Output rows y0 .. y0 + rows and columns x0 .. x0 + columns; tiles are numbered row-major.
+struct Tile {
+  int x0 = 0, y0 = 0, columns = 0, rows = 0;
+
+  Tile(const Layout& layout, int index) {
+    x0 = index % layout.tiles_across() * kTileColumns;
+    y0 = index / layout.tiles_across() * kTileRows;
+    columns = std::min(kTileColumns, layout.width - x0);
+    rows = std::min(kTileRows, layout.height - y0);
   }
 };
 
 template <typename T>
-struct Saved {
-  T* partials;
+struct Planes {
+  T* base;
   Layout layout;
-  // Row r of partial f of channel c, padded: column col is at index R + col. The three partials
-  // of a row are partial_plane() apart.
+  // Padded row r of plane p: column col is at index R + col.
+  T* row(std::size_t p, int r) const {
+    return base + p * layout.plane_size() + std::size_t(r) * layout.padded_width();
+  }
+  // Channel c of x (image 0) or y (image 1).
+  T* input_row(int image, int c, int r) const {
+    return row(std::size_t(image) * layout.channels + c, r);
+  }
+  // Partial f of channel c; the three partials of a row are plane_size() apart.
   T* partial_row(int c, int f, int r) const {
-    return partials + (std::size_t(c) * kPartials + f) * layout.partial_plane() +
-           std::size_t(r) * layout.padded_width();
+    return row(2 * std::size_t(layout.channels) + std::size_t(c) * kPartials + f, r);
   }
 };
 
 template <typename T>
 struct Workspace {
-  T* input;  // [2][W + 2R]
-  T* band;   // [5][kBandSpan, W]
-  T* out;    // [C][kBandRows, W]
-  Layout layout;
-  T* input_row(int f) const { return input + f * layout.padded_width(); }
-  T* band_row(int f, int j) const {
-    return band + f * layout.band_field() + std::size_t(j) * layout.width;
+  T* ring;  // [5][kRingRows, kTileColumns]
+  T* out;   // [C][kTileRows, kTileColumns]
+  T* ring_row(int f, int slot) const {
+    return ring + f * kRingField + std::size_t(slot) * kTileColumns;
   }
   T* out_row(int c, int i) const {
-    return out + (std::size_t(c) * kBandRows + i) * layout.width;
+    return out + (std::size_t(c) * kTileRows + i) * kTileColumns;
   }
 };
 
-// Resizes `buffers` for the saved state and `slots` workspaces; the saved state comes first,
-// so growing for more slots keeps it.
+// Resizes `buffers` for the planes and `slots` workspaces; the planes come first, so growing for
+// more slots keeps them.
 template <typename T>
 void reserve_buffers(const Layout& layout, bool kept, int slots, std::vector<T>& buffers) {
   const std::size_t size =
-      layout.partials_size(kept) + std::size_t(slots) * layout.workspace_size();
+      layout.planes_size(kept) + std::size_t(slots) * layout.workspace_size();
   if (buffers.size() < size) buffers.resize(size);
 }
 
-// The calling thread's workspace. Each thread runs one band to completion before taking
-// another (a band spawns no nested work), so its slot's workspace is its own meanwhile.
+// The calling thread's workspace. Each thread runs one tile to completion before taking
+// another (a tile spawns no nested work), so its slot's workspace is its own meanwhile.
 template <typename T>
 Workspace<T> this_threads_workspace(const Layout& layout, bool kept, int slots,
                                     std::vector<T>& buffers) {
   const int slot = tbb::this_task_arena::current_thread_index();
   if (slot < 0 || slot >= slots) throw std::logic_error("ssim: thread slot outside the arena");
-  T* base = buffers.data() + layout.partials_size(kept) + slot * layout.workspace_size();
-  Workspace<T> ws{base, nullptr, nullptr, layout};
-  ws.band = base + 2 * layout.padded_width();
-  ws.out = ws.band + kMoments * layout.band_field();
-  return ws;
+  T* base = buffers.data() + layout.planes_size(kept) + slot * layout.workspace_size();
+  return Workspace<T>{base, base + kMoments * kRingField};
 }
 
-// Zeroes the R columns either side of a padded row.
+// The ring slot that band row j (image row y0 − R + j) goes to; the window of output row i
+// (image row y0 + i, band rows i .. i + 2R) starts at slot i % kSsimWindow and runs on into the
+// twins.
+int ring_slot(int band_row) { return band_row % kSsimWindow; }
+
+// Copies the first `fields` fields' row at `slot` to its twin at slot + kSsimWindow.
 template <typename T>
-void zero_border_columns(T* padded_row, int width) {
-  for (int k = 0; k < R; ++k) {
-    padded_row[k] = T(0);
-    padded_row[R + width + k] = T(0);
+void mirror_ring_slot(const Workspace<T>& ws, int fields, int slot, int columns) {
+  for (int f = 0; f < fields; ++f)
+    std::copy_n(ws.ring_row(f, slot), columns, ws.ring_row(f, slot + kSsimWindow));
+}
+
+// A row outside the image: the conv2d's zeros, in the slot and its twin.
+template <typename T>
+void zero_ring_slot(const Workspace<T>& ws, int fields, int slot, int columns) {
+  for (int f = 0; f < fields; ++f) {
+    std::fill_n(ws.ring_row(f, slot), columns, T(0));
+    std::fill_n(ws.ring_row(f, slot + kSsimWindow), columns, T(0));
   }
 }
 
@@ -115,7 +148,8 @@ void zero_border_columns(T* padded_row, int width) {
 template <typename T, int kChannels>
 void load_padded_row(const T* __restrict in, int c, int width, int channels, T* __restrict out) {
   const int C = kChannels != kRuntimeChannels ? kChannels : channels;
-  zero_border_columns(out, width);
+  std::fill_n(out, R, T(0));
+  std::fill_n(out + R + width, R, T(0));
   for (int col = 0; col < width; ++col) out[R + col] = in[std::size_t(col) * C + c];
 }
 
@@ -153,9 +187,10 @@ template <typename T, typename Tap>
 // (column col reads padded indices col .. col + 2R), the products formed on the fly so that
 // only x and y are loaded; field f goes to out + f·out_stride. The kernels take restrict
 // parameters, not locals, because GCC honours __restrict only there, and their column loops
-// vectorise only when it knows outputs and inputs do not alias.
+// vectorise only when it knows outputs and inputs do not alias; for the same reason they are
+// never inlined (inlined into their caller, the restrict promise is lost with the parameters).
 template <typename T>
-void blur_moments_along_row(const T* __restrict x, const T* __restrict y, int width,
+[[gnu::noinline]] void blur_moments_along_row(const T* __restrict x, const T* __restrict y, int width,
                             const std::array<T, kSsimWindow>& weights, T* __restrict out,
                             std::size_t out_stride) {
   const std::array<T, kSsimWindow> w = weights;  // a local copy the compiler keeps in registers
@@ -183,7 +218,7 @@ void blur_moments_along_row(const T* __restrict x, const T* __restrict y, int wi
 // Row pass of the backward: the three partials' padded rows (partial f at in + f·in_stride)
 // blurred into out + f·out_stride.
 template <typename T>
-void blur_partials_along_row(const T* __restrict in, std::size_t in_stride, int width,
+[[gnu::noinline]] void blur_partials_along_row(const T* __restrict in, std::size_t in_stride, int width,
                              const std::array<T, kSsimWindow>& weights, T* __restrict out,
                              std::size_t out_stride) {
   const std::array<T, kSsimWindow> w = weights;
@@ -235,7 +270,7 @@ inline MapAtPixel<T> ssim_map_at(T mx, T my, T exx, T eyy, T exy) {
 // band[f·field_stride + k·tap_stride + col]; then the map and, with kKeepPartials, its
 // partials (partial f at partials + f·partial_stride).
 template <typename T, bool kKeepPartials>
-void ssim_map_columns(const T* __restrict band, std::size_t field_stride, std::size_t tap_stride,
+[[gnu::noinline]] void ssim_map_columns(const T* __restrict band, std::size_t field_stride, std::size_t tap_stride,
                       int width, const std::array<T, kSsimWindow>& weights, T* __restrict map,
                       T* __restrict partials, std::size_t partial_stride) {
   const std::array<T, kSsimWindow> w = weights;
@@ -256,7 +291,7 @@ void ssim_map_columns(const T* __restrict band, std::size_t field_stride, std::s
 // Column pass of the backward over one output row (taps as in ssim_map_columns), then the
 // per-pixel combination g = G∗(∂m/∂μx) + 2x·G∗(∂m/∂Exx) + y·G∗(∂m/∂Exy).
 template <typename T>
-void ssim_gradient_columns(const T* __restrict band, std::size_t field_stride,
+[[gnu::noinline]] void ssim_gradient_columns(const T* __restrict band, std::size_t field_stride,
                            std::size_t tap_stride, int width,
                            const std::array<T, kSsimWindow>& weights, const T* __restrict x,
                            const T* __restrict y, T* __restrict g) {
@@ -284,46 +319,66 @@ double sum_in_double(const T* v, int n) {
   return sum;
 }
 
-// Forward over one band (image rows y0 .. y0 + kBandRows, clipped), every channel: the map,
-// the partials if kept, and Σ map in double (channels in order, then rows in order).
-template <typename T, int kChannels, bool kKeepPartials>
-double forward_band(const T* x, const T* y, const Saved<T>& saved, const Workspace<T>& ws,
-                    int y0, const std::array<T, kSsimWindow>& w) {
-  const Layout& L = saved.layout;
-  const int W = L.width, H = L.height, C = L.channels;
-  const int y1 = std::min(y0 + kBandRows, H);
+// Channel c of every image row into the input planes: x to image 0, y to image 1.
+template <typename T, int kChannels>
+void split_into_planes(const T* x, const T* y, const Planes<T>& planes) {
+  const Layout& L = planes.layout;
+  const int W = L.width, C = L.channels;
   const std::size_t row_values = std::size_t(W) * C;
+  tbb::parallel_for(tbb::blocked_range<int>(0, L.height), [&](const tbb::blocked_range<int>& rows) {
+    for (int r = rows.begin(); r != rows.end(); ++r)
+      for (int c = 0; c < C; ++c) {
+        load_padded_row<T, kChannels>(x + r * row_values, c, W, C, planes.input_row(0, c, r));
+        load_padded_row<T, kChannels>(y + r * row_values, c, W, C, planes.input_row(1, c, r));
+      }
+  });
+}
+
+// Forward over one tile, every channel: the map, the partials if kept, and Σ map in double
+// (channels in order, then rows in order).
+template <typename T, bool kKeepPartials>
+double forward_tile(const Planes<T>& planes, const Workspace<T>& ws, const Tile& tile,
+                    const std::array<T, kSsimWindow>& w) {
+  const Layout& L = planes.layout;
+  const int W = L.width, H = L.height, C = L.channels;
+  T* map = ws.out_row(0, 0);
   double sum = 0;
   for (int c = 0; c < C; ++c) {
-    // Row pass over the band and its halo; rows outside the image are the conv2d's zeros.
-    for (int j = 0; j < (y1 - y0) + 2 * R; ++j) {
-      const int r = y0 - R + j;
+    // Band row j is image row y0 − R + j; once it is in the ring, output row j − 2R has its
+    // whole window.
+    for (int j = 0; j < tile.rows + 2 * R; ++j) {
+      const int r = tile.y0 - R + j;
       if (r < 0 || r >= H) {
-        for (int f = 0; f < kMoments; ++f) std::fill_n(ws.band_row(f, j), W, T(0));
-        continue;
+        zero_ring_slot(ws, kMoments, ring_slot(j), tile.columns);
+      } else {
+        // Padded index x0 is column x0 − R: the row pass's first tap.
+        blur_moments_along_row(planes.input_row(0, c, r) + tile.x0,
+                               planes.input_row(1, c, r) + tile.x0, tile.columns, w,
+                               ws.ring_row(0, ring_slot(j)), kRingField);
+        mirror_ring_slot(ws, kMoments, ring_slot(j), tile.columns);
       }
-      load_padded_row<T, kChannels>(x + r * row_values, c, W, C, ws.input_row(0));
-      load_padded_row<T, kChannels>(y + r * row_values, c, W, C, ws.input_row(1));
-      blur_moments_along_row(ws.input_row(0), ws.input_row(1), W, w, ws.band_row(0, j),
-                             L.band_field());
-    }
-    // Column pass: output row r reads band rows r − y0 .. r − y0 + 2R.
-    for (int r = y0; r < y1; ++r) {
+      const int i = j - 2 * R;
+      if (i < 0) continue;
       T* partials = nullptr;
       if constexpr (kKeepPartials) {
-        for (int f = 0; f < kPartials; ++f) zero_border_columns(saved.partial_row(c, f, r), W);
-        partials = saved.partial_row(c, 0, r) + R;
+        // The tiles at the image's edges zero the padding columns of their side.
+        for (int f = 0; f < kPartials; ++f) {
+          T* padded = planes.partial_row(c, f, tile.y0 + i);
+          if (tile.x0 == 0) std::fill_n(padded, R, T(0));
+          if (tile.x0 + tile.columns == W) std::fill_n(padded + R + W, R, T(0));
+        }
+        partials = planes.partial_row(c, 0, tile.y0 + i) + R + tile.x0;
       }
-      T* map = ws.out_row(0, r - y0);
-      ssim_map_columns<T, kKeepPartials>(ws.band_row(0, r - y0), L.band_field(), std::size_t(W),
-                                         W, w, map, partials, L.partial_plane());
-      sum += sum_in_double(map, W);
+      ssim_map_columns<T, kKeepPartials>(ws.ring_row(0, ring_slot(i)), kRingField, kTileColumns,
+                                         tile.columns, w, map, partials, L.plane_size());
+      sum += sum_in_double(map, tile.columns);
     }
   }
   return sum;
 }
 
-// Backward over one band, every channel, then v_x += scale · (n·∂SSIM/∂x) for its rows, where
+// Backward over one tile, every channel, then v_x += scale · (n·∂SSIM/∂x) for its pixels,
+// where
 //   ∂SSIM/∂x = (1/n) [G∗(∂m/∂μx) + 2x·G∗(∂m/∂Exx) + y·G∗(∂m/∂Exy)].
 // Derivation: SSIM = (1/n) Σ_p m(p) with μx(p) = Σ_q G(p − q) x_q, Exx(p) = Σ_q G(p − q) x_q²,
 // Exy(p) = Σ_q G(p − q) x_q y_q, so
@@ -334,35 +389,34 @@ double forward_band(const T* x, const T* y, const Saved<T>& saved, const Workspa
 // commute (they act on different axes of a rectangular zero padding), so rows-then-columns is
 // reused; the two orders differ by rounding only.
 template <typename T, int kChannels>
-void backward_band(const T* x, const T* y, const Saved<T>& saved, const Workspace<T>& ws,
-                   int y0, const std::array<T, kSsimWindow>& w, T scale, T* v_x) {
-  const Layout& L = saved.layout;
+void backward_tile(const Planes<T>& planes, const Workspace<T>& ws, const Tile& tile,
+                   const std::array<T, kSsimWindow>& w, T scale, T* v_x) {
+  const Layout& L = planes.layout;
   const int W = L.width, H = L.height, C = L.channels;
-  const int y1 = std::min(y0 + kBandRows, H);
-  const std::size_t row_values = std::size_t(W) * C;
   for (int c = 0; c < C; ++c) {
-    for (int j = 0; j < (y1 - y0) + 2 * R; ++j) {
-      const int r = y0 - R + j;
+    for (int j = 0; j < tile.rows + 2 * R; ++j) {
+      const int r = tile.y0 - R + j;
       if (r < 0 || r >= H) {
-        for (int f = 0; f < kPartials; ++f) std::fill_n(ws.band_row(f, j), W, T(0));
-        continue;
+        zero_ring_slot(ws, kPartials, ring_slot(j), tile.columns);
+      } else {
+        blur_partials_along_row(planes.partial_row(c, 0, r) + tile.x0, L.plane_size(),
+                                tile.columns, w, ws.ring_row(0, ring_slot(j)), kRingField);
+        mirror_ring_slot(ws, kPartials, ring_slot(j), tile.columns);
       }
-      blur_partials_along_row(saved.partial_row(c, 0, r), L.partial_plane(), W, w,
-                              ws.band_row(0, j), L.band_field());
-    }
-    for (int r = y0; r < y1; ++r) {
-      load_padded_row<T, kChannels>(x + r * row_values, c, W, C, ws.input_row(0));
-      load_padded_row<T, kChannels>(y + r * row_values, c, W, C, ws.input_row(1));
-      ssim_gradient_columns(ws.band_row(0, r - y0), L.band_field(), std::size_t(W), W, w,
-                            ws.input_row(0) + R, ws.input_row(1) + R, ws.out_row(c, r - y0));
+      const int i = j - 2 * R;
+      if (i < 0) continue;
+      const int row = tile.y0 + i;
+      ssim_gradient_columns(ws.ring_row(0, ring_slot(i)), kRingField, kTileColumns, tile.columns,
+                            w, planes.input_row(0, c, row) + R + tile.x0,
+                            planes.input_row(1, c, row) + R + tile.x0, ws.out_row(c, i));
     }
   }
-  for (int r = y0; r < y1; ++r)
-    add_interleaved<T, kChannels>(ws.out_row(0, r - y0), std::size_t(kBandRows) * W, W, C, scale,
-                                  v_x + r * row_values);
+  const std::size_t row_values = std::size_t(W) * C;
+  for (int i = 0; i < tile.rows; ++i)
+    add_interleaved<T, kChannels>(ws.out_row(0, i), std::size_t(kTileRows) * kTileColumns,
+                                  tile.columns, C, scale,
+                                  v_x + (tile.y0 + i) * row_values + std::size_t(tile.x0) * C);
 }
-
-int band_count(int height) { return (height + kBandRows - 1) / kBandRows; }
 
 }  // namespace
 
@@ -386,22 +440,21 @@ double ssim_forward(const T* x, const T* y, SsimShape shape, bool keep_for_vjp,
   const Layout layout(shape);
   const int slots = tbb::this_task_arena::max_concurrency();
   reserve_buffers(layout, keep_for_vjp, slots, buffers);
-  const Saved<T> saved{buffers.data(), layout};
+  const Planes<T> planes{buffers.data(), layout};
+  if (shape.channels == 3)
+    split_into_planes<T, 3>(x, y, planes);
+  else
+    split_into_planes<T, kRuntimeChannels>(x, y, planes);
   const std::array<T, kSsimWindow> w = ssim_window_1d<T>();
-  const bool three = shape.channels == 3;
-  // One leaf per band and a fixed tree: the same additions in the same order for any threads.
+  // One leaf per tile and a fixed tree: the same additions in the same order for any threads.
   const double sum = tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<int>(0, band_count(shape.height), 1), 0.0,
-      [&](const tbb::blocked_range<int>& bands, double partial_sum) {
+      tbb::blocked_range<int>(0, layout.tile_count(), 1), 0.0,
+      [&](const tbb::blocked_range<int>& tiles, double partial_sum) {
         const Workspace<T> ws = this_threads_workspace(layout, keep_for_vjp, slots, buffers);
-        for (int b = bands.begin(); b != bands.end(); ++b) {
-          const int y0 = b * kBandRows;
-          if (keep_for_vjp)
-            partial_sum += three ? forward_band<T, 3, true>(x, y, saved, ws, y0, w)
-                                 : forward_band<T, kRuntimeChannels, true>(x, y, saved, ws, y0, w);
-          else
-            partial_sum += three ? forward_band<T, 3, false>(x, y, saved, ws, y0, w)
-                                 : forward_band<T, kRuntimeChannels, false>(x, y, saved, ws, y0, w);
+        for (int index = tiles.begin(); index != tiles.end(); ++index) {
+          const Tile tile(layout, index);
+          partial_sum += keep_for_vjp ? forward_tile<T, true>(planes, ws, tile, w)
+                                      : forward_tile<T, false>(planes, ws, tile, w);
         }
         return partial_sum;
       },
@@ -410,26 +463,25 @@ double ssim_forward(const T* x, const T* y, SsimShape shape, bool keep_for_vjp,
 }
 
 template <typename T>
-void ssim_vjp(const T* x, const T* y, SsimShape shape, T v_ssim, T* v_x,
-              std::vector<T>& buffers) {
+void ssim_vjp(SsimShape shape, T v_ssim, T* v_x, std::vector<T>& buffers) {
   const Layout layout(shape);
-  if (buffers.size() < layout.partials_size(true))
+  if (buffers.size() < layout.planes_size(true))
     throw ArgumentError("ssim_vjp: the buffers hold no forward pass that kept its partials");
   const int slots = tbb::this_task_arena::max_concurrency();
   reserve_buffers(layout, true, slots, buffers);
-  const Saved<T> saved{buffers.data(), layout};
+  const Planes<T> planes{buffers.data(), layout};
   const std::array<T, kSsimWindow> w = ssim_window_1d<T>();
   const T scale = T(double(v_ssim) / (double(shape.width) * shape.height * shape.channels));
-  // Bands write disjoint rows of v_x.
-  tbb::parallel_for(tbb::blocked_range<int>(0, band_count(shape.height), 1),
-                    [&](const tbb::blocked_range<int>& bands) {
+  // Tiles write disjoint pixels of v_x.
+  tbb::parallel_for(tbb::blocked_range<int>(0, layout.tile_count(), 1),
+                    [&](const tbb::blocked_range<int>& tiles) {
                       const Workspace<T> ws = this_threads_workspace(layout, true, slots, buffers);
-                      for (int b = bands.begin(); b != bands.end(); ++b) {
-                        const int y0 = b * kBandRows;
+                      for (int index = tiles.begin(); index != tiles.end(); ++index) {
+                        const Tile tile(layout, index);
                         if (shape.channels == 3)
-                          backward_band<T, 3>(x, y, saved, ws, y0, w, scale, v_x);
+                          backward_tile<T, 3>(planes, ws, tile, w, scale, v_x);
                         else
-                          backward_band<T, kRuntimeChannels>(x, y, saved, ws, y0, w, scale, v_x);
+                          backward_tile<T, kRuntimeChannels>(planes, ws, tile, w, scale, v_x);
                       }
                     });
 }
@@ -440,9 +492,7 @@ template double ssim_forward<float>(const float*, const float*, SsimShape, bool,
                                     std::vector<float>&);
 template double ssim_forward<double>(const double*, const double*, SsimShape, bool,
                                      std::vector<double>&);
-template void ssim_vjp<float>(const float*, const float*, SsimShape, float, float*,
-                              std::vector<float>&);
-template void ssim_vjp<double>(const double*, const double*, SsimShape, double, double*,
-                               std::vector<double>&);
+template void ssim_vjp<float>(SsimShape, float, float*, std::vector<float>&);
+template void ssim_vjp<double>(SsimShape, double, double*, std::vector<double>&);
 
 }  // namespace splat

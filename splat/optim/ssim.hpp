@@ -8,8 +8,8 @@
 //   map = (2 μx μy + C1)(2 σxy + C2) / ((μx² + μy² + C1)(σx² + σy² + C2))
 //   SSIM = mean of the map over all pixels and channels
 // Images are interleaved [height, width, channels]. The blur is separable (an 11-tap pass along
-// rows, then one along columns) and runs in parallel over bands of rows, each band's row-blurred
-// fields staying in cache for its column pass. Every value is computed by one fixed sequence of
+// rows, then one along columns) and runs in parallel over tiles of pixels, each tile's
+// row-blurred fields staying in the first-level cache for its column pass. Every value is computed by one fixed sequence of
 // operations and the mean is reduced in a fixed order, so results are bit-identical for any
 // thread count.
 #include <array>
@@ -33,13 +33,19 @@ struct SsimShape {
 };
 
 // Mean SSIM of x against y (both [height, width, channels]). With `keep_for_vjp` it leaves in
-// `buffers` the per-pixel partial derivatives of the map that ssim_vjp consumes (the saved
-// state). `buffers` also holds one workspace per thread of the current task arena; it is
-// resized as needed and allocates nothing once its capacity suffices. Shapes are not checked
-// here (the public wrappers do that).
+// `buffers` what ssim_vjp consumes (the saved state): x and y split into planes, and the
+// per-pixel partial derivatives of the map. `buffers` also holds one workspace per thread of
+// the current task arena; it is resized as needed and allocates nothing once its capacity
+// suffices. Shapes are not checked here (the public wrappers do that).
 template <typename T>
 double ssim_forward(const T* x, const T* y, SsimShape shape, bool keep_for_vjp,
                     std::vector<T>& buffers);
+
+// v_x += v_ssim · ∂SSIM/∂x, y held constant; v_x is [height, width, channels], and `buffers`
+// as ssim_forward(x, y, shape, /*keep_for_vjp=*/true, buffers) left them (x and y are read from
+// there). The saved state is left intact, so it may be called again.
+template <typename T>
+void ssim_vjp(SsimShape shape, T v_ssim, T* v_x, std::vector<T>& buffers);
 
 // v_x += v_ssim · ∂SSIM/∂x, y held constant; v_x is [height, width, channels]. x, y and `buffers`
 // as ssim_forward(x, y, shape, /*keep_for_vjp=*/true, buffers) left them. The saved state is

@@ -119,10 +119,11 @@ TEST(Ssim, DecreasesAsNoiseGrows) {
 
 TEST(Ssim, MatchesTheNaiveReferenceWhereBordersDominate) {
   // 23×17: every pixel is within a window of the border, so the zero padding shapes the result.
-  // The implementation works in bands of rows; 64×48 spans several, and the tiny sizes are
-  // smaller than the window in one or both directions.
-  for (const auto& [w, h] : {std::pair{23, 17}, std::pair{64, 48}, std::pair{1, 1},
-                             std::pair{5, 3}, std::pair{40, 2}, std::pair{2, 37}}) {
+  // The implementation works in tiles of 64×64 pixels; 64×48 is one whole tile, 130×70 spans
+  // six, and the tiny sizes are smaller than the window in one or both directions.
+  for (const auto& [w, h] : {std::pair{23, 17}, std::pair{64, 48}, std::pair{130, 70},
+                             std::pair{1, 1}, std::pair{5, 3}, std::pair{40, 2},
+                             std::pair{2, 37}}) {
     const std::vector<double> x = random_values(w, h, 3, 5), y = random_values(w, h, 3, 6);
     const double reference = naive_ssim(x, y, w, h, 3);
     EXPECT_NEAR(ssim(to_image(x, w, h, 3), to_image(y, w, h, 3)), reference, 1e-5)
@@ -184,16 +185,20 @@ TEST(PhotometricLoss, CombinesL1AndSsimWithTheWeight) {
 // Central differences of the double loss against the analytic gradient, element by element,
 // relative error ≤ 1e-4 on each. Step 1e-5: truncation O(h²·L''') and rounding O(ε·L/h) stay
 // near 1e-11 in absolute terms (measured: worst relative error 5e-7, smallest element 2e-6),
-// while a wrong term changes elements by their own size.
-void expect_gradient_matches_differences(double lambda, int width, int height) {
+// while a wrong term changes elements by their own size. `elements` lists the ones checked;
+// empty means all.
+void expect_gradient_matches_differences(double lambda, int width, int height,
+                                         std::vector<std::size_t> elements = {}) {
   std::vector<double> rendered, target, gradient, buffers;
   pair_away_from_the_kink(width, height, 12, rendered, target);
   loss_in_double(rendered, target, width, height, lambda, &gradient, buffers);
   constexpr double kStep = 1e-5;
   double max_abs = 0;
   for (const double g : gradient) max_abs = std::max(max_abs, std::abs(g));
-  ASSERT_GT(max_abs, 1e-4);  // a gradient that is not all zero
-  for (std::size_t i = 0; i < rendered.size(); ++i) {
+  ASSERT_GT(max_abs, 1e-4 / (double(width) * height));  // a gradient that is not all zero
+  if (elements.empty())
+    for (std::size_t i = 0; i < rendered.size(); ++i) elements.push_back(i);
+  for (const std::size_t i : elements) {
     std::vector<double> shifted = rendered;
     shifted[i] = rendered[i] + kStep;
     const double up = loss_in_double(shifted, target, width, height, lambda, nullptr, buffers);
@@ -208,8 +213,21 @@ void expect_gradient_matches_differences(double lambda, int width, int height) {
 
 TEST(PhotometricLoss, GradientMatchesCentralDifferences) {
   expect_gradient_matches_differences(kDefaultSsimWeight, 13, 11);
-  // Tall enough to cross the implementation's bands of rows (16 rows each) twice.
   expect_gradient_matches_differences(kDefaultSsimWeight, 7, 35);
+}
+
+TEST(PhotometricLoss, GradientMatchesCentralDifferencesAcrossTiles) {
+  // The implementation works in tiles of 64×64 pixels, each blurring its rows and columns with
+  // a halo of 5 read from its neighbours: 70×69 crosses a tile edge in both directions. Every
+  // channel of the pixels beside the edges, the corner where four tiles meet, and the image's
+  // own corners is checked (all of them would take minutes).
+  constexpr int kW = 70, kH = 69;
+  std::vector<std::size_t> elements;
+  for (const int y : {0, 58, 63, 64, 69 - 1})
+    for (const int x : {0, 59, 63, 64, 68, 70 - 1})
+      for (int c = 0; c < 3; ++c) elements.push_back((std::size_t(y) * kW + x) * 3 + c);
+  for (const double lambda : {double(kDefaultSsimWeight), 1.0})
+    expect_gradient_matches_differences(lambda, kW, kH, elements);
 }
 
 TEST(PhotometricLoss, SsimGradientAloneMatchesCentralDifferences) {
@@ -219,9 +237,9 @@ TEST(PhotometricLoss, SsimGradientAloneMatchesCentralDifferences) {
 }
 
 TEST(PhotometricLoss, DirectionalDerivativeMatchesTheGradient) {
-  // ⟨∂L/∂x, δ⟩ against (L(x + εδ) − L(x − εδ)) / 2ε for random directions δ, on an image tall
-  // enough to span several of the implementation's bands of rows.
-  constexpr int kW = 17, kH = 41;
+  // ⟨∂L/∂x, δ⟩ against (L(x + εδ) − L(x − εδ)) / 2ε for random directions δ, on an image that
+  // spans four of the implementation's 64×64 tiles.
+  constexpr int kW = 75, kH = 81;
   std::vector<double> rendered, target, gradient, buffers;
   pair_away_from_the_kink(kW, kH, 13, rendered, target);
   for (const double lambda : {0.2, 1.0}) {
