@@ -190,7 +190,8 @@ template <typename T, typename Tap>
 // vectorise only when it knows outputs and inputs do not alias; for the same reason they are
 // never inlined (inlined into their caller, the restrict promise is lost with the parameters).
 template <typename T>
-[[gnu::noinline]] void blur_moments_along_row(const T* __restrict x, const T* __restrict y, int width,
+[[gnu::noinline]]
+void blur_moments_along_row(const T* __restrict x, const T* __restrict y, int width,
                             const std::array<T, kSsimWindow>& weights, T* __restrict out,
                             std::size_t out_stride) {
   const std::array<T, kSsimWindow> w = weights;  // a local copy the compiler keeps in registers
@@ -218,7 +219,8 @@ template <typename T>
 // Row pass of the backward: the three partials' padded rows (partial f at in + f·in_stride)
 // blurred into out + f·out_stride.
 template <typename T>
-[[gnu::noinline]] void blur_partials_along_row(const T* __restrict in, std::size_t in_stride, int width,
+[[gnu::noinline]]
+void blur_partials_along_row(const T* __restrict in, std::size_t in_stride, int width,
                              const std::array<T, kSsimWindow>& weights, T* __restrict out,
                              std::size_t out_stride) {
   const std::array<T, kSsimWindow> w = weights;
@@ -267,16 +269,17 @@ inline MapAtPixel<T> ssim_map_at(T mx, T my, T exx, T eyy, T exy) {
 }
 
 // Column pass of the forward over one output row: tap k of field f is
-// band[f·field_stride + k·tap_stride + col]; then the map and, with kKeepPartials, its
+// rows[f·field_stride + k·tap_stride + col]; then the map and, with kKeepPartials, its
 // partials (partial f at partials + f·partial_stride).
 template <typename T, bool kKeepPartials>
-[[gnu::noinline]] void ssim_map_columns(const T* __restrict band, std::size_t field_stride, std::size_t tap_stride,
+[[gnu::noinline]]
+void ssim_map_columns(const T* __restrict rows, std::size_t field_stride, std::size_t tap_stride,
                       int width, const std::array<T, kSsimWindow>& weights, T* __restrict map,
                       T* __restrict partials, std::size_t partial_stride) {
   const std::array<T, kSsimWindow> w = weights;
   for (int col = 0; col < width; ++col) {
     const auto blurred = [&](int f) {
-      return window_sum(w, [&](int k) { return band[f * field_stride + k * tap_stride + col]; });
+      return window_sum(w, [&](int k) { return rows[f * field_stride + k * tap_stride + col]; });
     };
     const MapAtPixel<T> at = ssim_map_at(blurred(0), blurred(1), blurred(2), blurred(3), blurred(4));
     map[col] = at.map;
@@ -291,14 +294,15 @@ template <typename T, bool kKeepPartials>
 // Column pass of the backward over one output row (taps as in ssim_map_columns), then the
 // per-pixel combination g = G∗(∂m/∂μx) + 2x·G∗(∂m/∂Exx) + y·G∗(∂m/∂Exy).
 template <typename T>
-[[gnu::noinline]] void ssim_gradient_columns(const T* __restrict band, std::size_t field_stride,
+[[gnu::noinline]]
+void ssim_gradient_columns(const T* __restrict rows, std::size_t field_stride,
                            std::size_t tap_stride, int width,
                            const std::array<T, kSsimWindow>& weights, const T* __restrict x,
                            const T* __restrict y, T* __restrict g) {
   const std::array<T, kSsimWindow> w = weights;
   for (int col = 0; col < width; ++col) {
     const auto blurred = [&](int f) {
-      return window_sum(w, [&](int k) { return band[f * field_stride + k * tap_stride + col]; });
+      return window_sum(w, [&](int k) { return rows[f * field_stride + k * tap_stride + col]; });
     };
     g[col] = blurred(0) + 2 * x[col] * blurred(1) + y[col] * blurred(2);
   }
