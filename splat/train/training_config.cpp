@@ -195,12 +195,6 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
     // by (real_cup at P6: 30.72 dB against 29.05 and 29.70; bench/HISTORY.md, issue 40).
     // Synthetic data without points is untouched.
     c.prune_before_points = 0.5f;
-    // On the same data, at each window's end, Gaussians drawn by fewer than 5 % of the
-    // window's views (real_cup: by 3 of 67 or fewer) are pruned too: the translucent smears
-    // that grow in front of one or two training cameras and cross a close-up test view (real_cup
-    // at P6, seeds 0 and 1: 30.74 and 29.96 dB against 29.68 and 29.75, its close-up view 61 at
-    // 25.0 and 21.7 dB against 14.9; bench/HISTORY.md, issue 40's twenty-seventh session).
-    c.prune_min_view_share = 0.05f;
     // On a real capture one training view in 32 is held out for the first half of growth,
     // the best model by their score kept, and restored when the views say the model has
     // fallen since (validation_holdout.hpp). Views held out cost the captures that hold:
