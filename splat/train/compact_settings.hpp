@@ -57,6 +57,13 @@ struct CompactSettings {
   // point cloud (COLMAP); 0 = off.
   float prune_before_points = 0.0f;
 
+  // Opacity decay (Binocular3DGS, Han et al. 2024): after every optimiser step from grow_from
+  // to grow_until, each opacity loses this fraction of itself (o ← (1 − d)·o). A Gaussian the
+  // photographs keep asking for is pushed back up by its gradient; one they barely constrain
+  // (a floater in space the views see through) fades until pruning takes it. Meant in place
+  // of the resets (opacity_reset_interval 0). 0 = off.
+  float opacity_decay = 0.0f;
+
   // Opacity reset as the official recipe (0 = never).
   int opacity_reset_interval = 0;
   float opacity_reset_value = 0.01f;

@@ -27,6 +27,13 @@ Vec3<float> normal3(unsigned seed, int iteration, std::size_t index) {
   return {float(r0 * std::cos(t0)), float(r0 * std::sin(t0)), float(r1 * std::cos(t1))};
 }
 
+// logit(keep · sigmoid(x)) = log(keep) − log((1 − keep) + e^−x), written so that neither
+// exponential can overflow: a Gaussian pruned long ago to a logit of −100 stays finite.
+float scaled_opacity_logit(float x, float keep) {
+  if (x >= 0) return std::log(keep) - std::log((1.0f - keep) + std::exp(-x));
+  return std::log(keep) + x - std::log1p((1.0f - keep) * std::exp(x));
+}
+
 }  // namespace
 
 CompactStrategy::CompactStrategy(const CompactSettings& settings,
@@ -244,7 +251,24 @@ std::size_t CompactStrategy::remove_rows(const std::vector<std::uint8_t>& keep, 
 }
 
 void CompactStrategy::step_post_optimizer(int iteration, TrainingState& state, float means_lr) {
-  if (settings_.noise_lr <= 0) return;
+  const int phase = state.schedule_iteration > 0 ? state.schedule_iteration : iteration;
+  if (settings_.opacity_decay > 0 && iteration >= settings_.grow_from && phase <= settings_.grow_until)
+    decay_opacity(state.model, settings_.opacity_decay);
+  if (settings_.noise_lr > 0) add_position_noise(iteration, state, means_lr);
+}
+
+void CompactStrategy::decay_opacity(GaussianModel& model, float fraction) {
+  // In the opacity itself, not its logit: a fixed share of every Gaussian's coverage, which an
+  // opaque one the views agree on wins back in a step and a faint unconstrained one does not.
+  const float keep = 1.0f - fraction;
+  std::vector<float>& logits = model.opacity_logits;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, logits.size(), 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i)
+      logits[i] = scaled_opacity_logit(logits[i], keep);
+  });
+}
+
+void CompactStrategy::add_position_noise(int iteration, TrainingState& state, float means_lr) {
   // MCMC's exploration noise: N(0, Σ) scaled by the means' step, switched on smoothly as the
   // opacity falls below ~0.005 (sigmoid(100·((1 − o) − 0.995))), so opaque Gaussians stay put.
   GaussianModel& model = state.model;

@@ -318,5 +318,32 @@ TEST(CompactStrategy, RegularisersAddTheirGradients) {
   }
 }
 
+TEST(CompactStrategy, OpacityDecayTakesItsShareInsideTheGrowthSpanOnly) {
+  Fixture f(10);
+  f.model.opacity_logits[0] = -100.0f;  // long transparent: must stay finite
+  f.model.opacity_logits[1] = 30.0f;    // saturated: must come down, not stay at 1
+  const GaussianModel before = f.model;
+  CompactSettings s;
+  s.opacity_decay = 0.01f;
+  s.grow_from = 5;
+  s.grow_until = 8;
+  CompactStrategy strategy(s, {}, 10, 0, f.model.size());
+  const auto opacity = [](float stored) { return 1.0 / (1.0 + std::exp(-double(stored))); };
+  for (int it = 1; it <= 12; ++it) {
+    TrainingState state = f.state();
+    strategy.step_post_optimizer(it, state, 0.0f);
+  }
+  // Iterations 5..8 decay: four steps of × 0.99; everything else is untouched.
+  for (std::size_t i = 0; i < 10; ++i) {
+    ASSERT_TRUE(std::isfinite(f.model.opacity_logits[i])) << "row " << i;
+    EXPECT_NEAR(opacity(f.model.opacity_logits[i]), std::pow(0.99, 4) * opacity(before.opacity_logits[i]),
+                1e-4 * opacity(before.opacity_logits[i]))
+        << "row " << i;
+  }
+  EXPECT_LT(f.model.opacity_logits[0], -100.0f);
+  EXPECT_EQ(f.model.means, before.means);
+  EXPECT_EQ(f.model.sh, before.sh);
+}
+
 }  // namespace
 }  // namespace splat
