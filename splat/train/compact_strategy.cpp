@@ -34,6 +34,12 @@ float scaled_opacity_logit(float x, float keep) {
   return std::log(keep) + x - std::log1p((1.0f - keep) * std::exp(x));
 }
 
+// Where training stands in its growth schedule: a time-budgeted run maps its wall clock onto
+// the iteration schedule (state.schedule_iteration); otherwise the iteration itself.
+int schedule_phase(const TrainingState& state, int iteration) {
+  return state.schedule_iteration > 0 ? state.schedule_iteration : iteration;
+}
+
 }  // namespace
 
 CompactStrategy::CompactStrategy(const CompactSettings& settings,
@@ -122,7 +128,7 @@ DensityStepReport CompactStrategy::step_post_backward(int iteration, bool last_i
   if (last_iteration) return report;
   const CompactSettings& s = settings_;
   const int count = int(views.size());
-  const int phase = state.schedule_iteration > 0 ? state.schedule_iteration : iteration;
+  const int phase = schedule_phase(state, iteration);
   if (iteration > s.grow_from && phase <= s.grow_until && step_reaches_multiple(iteration, count, s.grow_interval))
     grow(iteration, state, report);
   const float prune_threshold = phase > s.grow_until && s.prune_weight_after_growth > 0
@@ -251,7 +257,7 @@ std::size_t CompactStrategy::remove_rows(const std::vector<std::uint8_t>& keep, 
 }
 
 void CompactStrategy::step_post_optimizer(int iteration, TrainingState& state, float means_lr) {
-  const int phase = state.schedule_iteration > 0 ? state.schedule_iteration : iteration;
+  const int phase = schedule_phase(state, iteration);
   if (settings_.opacity_decay > 0 && iteration >= settings_.grow_from && phase <= settings_.grow_until)
     decay_opacity(state.model, settings_.opacity_decay);
   if (settings_.noise_lr > 0) add_position_noise(iteration, state, means_lr);
