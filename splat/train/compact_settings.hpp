@@ -61,8 +61,10 @@ struct CompactSettings {
   // to grow_until, each opacity loses this fraction of itself (o ← (1 − d)·o). A Gaussian the
   // photographs keep asking for is pushed back up by its gradient; one they barely constrain
   // (a floater in space the views see through) fades until pruning takes it. Meant in place
-  // of the resets (opacity_reset_interval 0). 0 = off.
+  // of the resets: from opacity_decay_from (a point of the schedule, as grow_until) the
+  // resets stop and the decay runs; before it the resets run as set. 0 = off.
   float opacity_decay = 0.0f;
+  int opacity_decay_from = 0;
 
   // Opacity reset as the official recipe (0 = never).
   int opacity_reset_interval = 0;

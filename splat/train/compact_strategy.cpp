@@ -146,7 +146,7 @@ DensityStepReport CompactStrategy::step_post_backward(int iteration, bool last_i
     std::fill(window_views_.begin(), window_views_.end(), 0.0f);
     window_view_count_ = 0;
   }
-  if (s.opacity_reset_interval > 0 && phase <= s.grow_until &&
+  if (s.opacity_reset_interval > 0 && phase <= s.grow_until && !decays_opacity(phase) &&
       step_reaches_multiple(iteration, count, s.opacity_reset_interval)) {
     reset_opacity(state.model, state.adam, s.opacity_reset_value);
     report.opacity_reset = true;
@@ -258,9 +258,13 @@ std::size_t CompactStrategy::remove_rows(const std::vector<std::uint8_t>& keep, 
 
 void CompactStrategy::step_post_optimizer(int iteration, TrainingState& state, float means_lr) {
   const int phase = schedule_phase(state, iteration);
-  if (settings_.opacity_decay > 0 && iteration >= settings_.grow_from && phase <= settings_.grow_until)
+  if (iteration >= settings_.grow_from && phase <= settings_.grow_until && decays_opacity(phase))
     decay_opacity(state.model, settings_.opacity_decay);
   if (settings_.noise_lr > 0) add_position_noise(iteration, state, means_lr);
+}
+
+bool CompactStrategy::decays_opacity(int phase) const {
+  return settings_.opacity_decay > 0 && phase >= settings_.opacity_decay_from;
 }
 
 void CompactStrategy::decay_opacity(GaussianModel& model, float fraction) {

@@ -49,6 +49,8 @@ class CompactStrategy final : public DensityStrategy {
   void grow(int iteration, TrainingState& state, DensityStepReport& report);
   void prune_by_weight(float threshold, TrainingState& state, DensityStepReport& report);
   void prune_before_points(TrainingState& state, DensityStepReport& report);
+  // Whether the decay, not the resets, acts at this point of the schedule.
+  bool decays_opacity(int phase) const;
   static void decay_opacity(GaussianModel& model, float fraction);
   void add_position_noise(int iteration, TrainingState& state, float means_lr);
   // Removes the rows `keep` marks 0 from the model and every array aligned with it, and

@@ -83,6 +83,7 @@ void describe_settings(Table& t, SplatTrainingConfig& c) {
   t.number("compact_prune_min_view_share", k.prune_min_view_share, kUnit);
   t.number("compact_prune_before_points", k.prune_before_points, kUnit);
   t.number("compact_opacity_decay", k.opacity_decay, {0, 0.5});
+  t.number("compact_opacity_decay_from", k.opacity_decay_from, kIterations);
   t.number("compact_opacity_reset_interval", k.opacity_reset_interval, kIterations);
   t.number("compact_opacity_reset_value", k.opacity_reset_value, kOpacity);
   t.number("compact_opacity_regularization", k.opacity_regularization, {0, 1e3});

@@ -345,5 +345,33 @@ TEST(CompactStrategy, OpacityDecayTakesItsShareInsideTheGrowthSpanOnly) {
   EXPECT_EQ(f.model.sh, before.sh);
 }
 
+// With opacity_decay_from the schedule is split: the resets run before it, the decay from it.
+TEST(CompactStrategy, OpacityDecayTakesOverFromTheResetsAtItsStart) {
+  Fixture f(10);
+  CompactSettings s;
+  s.grow_from = 0;
+  s.grow_until = 100;
+  s.prune_weight = 0.0f;
+  s.opacity_reset_interval = 10;
+  s.opacity_decay = 0.01f;
+  s.opacity_decay_from = 45;
+  CompactStrategy strategy(s, {}, 10, 0, f.model.size());
+  std::vector<int> resets, decays;
+  for (int it = 1; it <= 100; ++it) {
+    GaussianModel grads = f.model;
+    grads.set_zero();
+    TrainingState state = f.state();
+    const Stats stats(f.model.size(), 0.0f, 1.0f);
+    if (strategy.step_post_backward(it, false, state, grads, stats.view()).opacity_reset) resets.push_back(it);
+    const float before = f.model.opacity_logits[3];
+    strategy.step_post_optimizer(it, state, 0.0f);
+    if (f.model.opacity_logits[3] != before) decays.push_back(it);
+  }
+  EXPECT_EQ(resets, (std::vector<int>{10, 20, 30, 40}));
+  ASSERT_EQ(decays.size(), 56u);
+  EXPECT_EQ(decays.front(), 45);
+  EXPECT_EQ(decays.back(), 100);
+}
+
 }  // namespace
 }  // namespace splat
