@@ -8,15 +8,25 @@
 
 namespace splat {
 
+CompactSettings compact_settings_for(const CompactSettings& configured, const Dataset& dataset) {
+  CompactSettings settings = configured;
+  // The decay was chosen on real captures (issue 40); synthetic data keeps the resets, as the
+  // holdout and the near-points prune leave it untouched.
+  if (!dataset.points) settings.opacity_decay = 0.0f;
+  return settings;
+}
+
 std::unique_ptr<DensityStrategy> make_density_strategy(const SplatTrainingConfig& config,
                                                        const Dataset& dataset,
                                                        std::size_t gaussian_count) {
   if (config.strategy == "official")
     return std::make_unique<OfficialStrategy>(config.density, gaussian_count);
-  if (config.strategy == "compact")
+  if (config.strategy == "compact") {
+    const CompactSettings settings = compact_settings_for(config.compact, dataset);
     return std::make_unique<CompactStrategy>(
-        config.compact, config.density, dataset.train.size(), config.seed, gaussian_count,
-        config.compact.prune_before_points > 0 ? points_near_bounds(dataset) : std::vector<CameraNearBound>{});
+        settings, config.density, dataset.train.size(), config.seed, gaussian_count,
+        settings.prune_before_points > 0 ? points_near_bounds(dataset) : std::vector<CameraNearBound>{});
+  }
   throw ArgumentError("unknown density strategy '" + config.strategy + "'");
 }
 

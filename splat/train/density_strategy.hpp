@@ -26,6 +26,7 @@ namespace splat {
 
 struct SplatTrainingConfig;
 struct Dataset;
+struct CompactSettings;
 
 // What the loop lends a strategy for one hook call.
 struct TrainingState {
@@ -93,6 +94,10 @@ class DensityStrategy {
   // Strategy-specific figures for metrics.json (e.g. when growth stopped and why).
   virtual nlohmann::json metrics() const { return nlohmann::json::object(); }
 };
+
+// The compact settings that act on `dataset`: the configured ones, with the opacity decay off
+// on data without a point cloud (synthetic scenes keep the resets they were tuned with).
+CompactSettings compact_settings_for(const CompactSettings& configured, const Dataset& dataset);
 
 // The strategy named by config.strategy, for training on `dataset` (its training views and,
 // where a setting asks, its cameras and points) and a model of `gaussian_count` rows.

@@ -11,6 +11,9 @@
 #include <random>
 #include <vector>
 
+#include "splat/data/dataset.hpp"
+#include "splat/train/density_strategy.hpp"
+#include "splat/train/training_config.hpp"
 #include "tests/test_support.hpp"
 
 namespace splat {
@@ -93,17 +96,24 @@ CompactSettings pruning_settings(float weight) {
   return s;
 }
 
+// One step after the backward pass, on the given statistics and schedule iteration.
+DensityStepReport step_once(CompactStrategy& strategy, Fixture& f, int iteration, const Stats& stats,
+                            int schedule_iteration = 0) {
+  GaussianModel grads = f.model;
+  grads.set_zero();
+  TrainingState state = f.state();
+  state.schedule_iteration = schedule_iteration;
+  return strategy.step_post_backward(iteration, false, state, grads, stats.view());
+}
+
 // Iterations first..last with every row's gradient norm `grad` and blending weight
 // weight_of(row, iteration).
 void run_iterations(CompactStrategy& strategy, Fixture& f, int first, int last, float grad,
                     const std::function<float(std::size_t, int)>& weight_of) {
   for (int it = first; it <= last; ++it) {
-    GaussianModel grads = f.model;
-    grads.set_zero();
-    TrainingState state = f.state();
     Stats stats(f.model.size(), grad, 0.0f);
     for (std::size_t i = 0; i < stats.weight.size(); ++i) stats.weight[i] = weight_of(i, it);
-    strategy.step_post_backward(it, false, state, grads, stats.view());
+    step_once(strategy, f, it, stats);
   }
 }
 
@@ -273,14 +283,8 @@ TEST(CompactStrategy, GrowthEndsWhenTheScheduleIterationPassesItsLimit) {
     CompactSettings s = growth_settings();
     s.grow_until = 1000;
     CompactStrategy strategy(s, {}, 10, 0, f.model.size());
-    for (int it = 1; it <= 20; ++it) {
-      GaussianModel grads = f.model;
-      grads.set_zero();
-      TrainingState state = f.state();
-      state.schedule_iteration = schedule_iteration;
-      const Stats stats(f.model.size(), 1.0f, 100.0f);
-      strategy.step_post_backward(it, false, state, grads, stats.view());
-    }
+    for (int it = 1; it <= 20; ++it)
+      step_once(strategy, f, it, Stats(f.model.size(), 1.0f, 100.0f), schedule_iteration);
     if (schedule_iteration == 0)
       EXPECT_GT(f.model.size(), 100u);
     else
@@ -358,12 +362,9 @@ TEST(CompactStrategy, OpacityDecayTakesOverFromTheResetsAtItsStart) {
   CompactStrategy strategy(s, {}, 10, 0, f.model.size());
   std::vector<int> resets, decays;
   for (int it = 1; it <= 100; ++it) {
-    GaussianModel grads = f.model;
-    grads.set_zero();
-    TrainingState state = f.state();
-    const Stats stats(f.model.size(), 0.0f, 1.0f);
-    if (strategy.step_post_backward(it, false, state, grads, stats.view()).opacity_reset) resets.push_back(it);
+    if (step_once(strategy, f, it, Stats(f.model.size(), 0.0f, 1.0f)).opacity_reset) resets.push_back(it);
     const float before = f.model.opacity_logits[3];
+    TrainingState state = f.state();
     strategy.step_post_optimizer(it, state, 0.0f);
     if (f.model.opacity_logits[3] != before) decays.push_back(it);
   }
@@ -371,6 +372,21 @@ TEST(CompactStrategy, OpacityDecayTakesOverFromTheResetsAtItsStart) {
   ASSERT_EQ(decays.size(), 56u);
   EXPECT_EQ(decays.front(), 45);
   EXPECT_EQ(decays.back(), 100);
+}
+
+// The preset decays opacities on a real capture (a point cloud) from half-way through growth;
+// data without a point cloud keeps the resets alone.
+TEST(CompactStrategy, ThePresetDecaysOpacityOnlyWithAPointCloud) {
+  const CompactSettings preset = splat_training_preset("compact").compact;
+  ASSERT_GT(preset.opacity_decay, 0.0f);
+  EXPECT_EQ(preset.opacity_decay_from, preset.grow_until / 2);
+  EXPECT_GT(preset.opacity_reset_interval, 0);
+  Dataset capture;
+  capture.points = PointCloud{};
+  EXPECT_EQ(compact_settings_for(preset, capture).opacity_decay, preset.opacity_decay);
+  const Dataset synthetic;
+  EXPECT_EQ(compact_settings_for(preset, synthetic).opacity_decay, 0.0f);
+  EXPECT_EQ(compact_settings_for(preset, synthetic).opacity_reset_interval, preset.opacity_reset_interval);
 }
 
 }  // namespace
