@@ -27,6 +27,21 @@ std::optional<ValidationHoldout::Score> ValidationHoldout::best() const {
                            [](const Score& a, const Score& b) { return a.psnr < b.psnr; });
 }
 
+double ValidationHoldout::median_at(std::size_t last) const {
+  const std::size_t first = last + 1 >= kMedianWidth ? last + 1 - kMedianWidth : 0;
+  std::vector<double> window;
+  for (std::size_t i = first; i <= last; ++i) window.push_back(scores_[i].psnr);
+  // The upper median: of two, the better (a dip is not the level).
+  std::nth_element(window.begin(), window.begin() + window.size() / 2, window.end());
+  return window[window.size() / 2];
+}
+
+double ValidationHoldout::fall_db() const {
+  double best_median = median_at(0);
+  for (std::size_t last = 1; last < scores_.size(); ++last) best_median = std::max(best_median, median_at(last));
+  return best_median - median_at(scores_.size() - 1);
+}
+
 bool ValidationHoldout::holds_out(std::size_t train_view) const {
   return active() && std::binary_search(train_indices_.begin(), train_indices_.end(), train_view);
 }
@@ -42,9 +57,7 @@ ValidationHoldout::Decision ValidationHoldout::record(int iteration, double psnr
   scores_.push_back({iteration, psnr});
   if (!best_before || psnr > best_before->psnr) best_model_ = model;
   if (schedule_fraction < settings_.decide_at) return Decision::kWait;
-  double recent = scores_.back().psnr;
-  if (scores_.size() >= 2) recent = std::max(recent, scores_[scores_.size() - 2].psnr);
-  decision_ = recent < best()->psnr - settings_.fall_db ? Decision::kRestore : Decision::kRejoin;
+  decision_ = fall_db() > settings_.fall_db ? Decision::kRestore : Decision::kRejoin;
   decided_at_ = iteration;
   // Restoring hands the best model over (the trainer copies it); rejoining has no use for it.
   if (decision_ == Decision::kRejoin) best_model_ = GaussianModel{};
@@ -69,9 +82,10 @@ std::string ValidationHoldout::restore_summary() const {
   if (!restored() || !best) return {};
   char line[256];
   std::snprintf(line, sizeof(line),
-                "validation: the held-out views fell from %.3f dB (iteration %d) to %.3f (iteration %d); "
-                "training stopped on the model of iteration %d",
-                best->psnr, best->iteration, scores_.back().psnr, scores_.back().iteration, best->iteration);
+                "validation: the held-out views fell %.2f dB (the median of their last three scores against "
+                "the best such median; the last %.3f dB at iteration %d); training stopped on the model of "
+                "iteration %d (%.3f dB)",
+                fall_db(), scores_.back().psnr, scores_.back().iteration, best->iteration, best->psnr);
   return line;
 }
 
@@ -85,6 +99,7 @@ nlohmann::json ValidationHoldout::metrics() const {
   if (const std::optional<Score> best = this->best()) m["best"] = {{"iteration", best->iteration}, {"psnr", best->psnr}};
   m["decision"] = decision_name(decision_);
   if (decided_at_) m["decided_at_iteration"] = *decided_at_;
+  if (decided_at_ && !scores_.empty()) m["fall_measured_db"] = fall_db();
   m["fall_db"] = settings_.fall_db;
   return m;
 }

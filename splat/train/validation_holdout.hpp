@@ -7,11 +7,15 @@
 // multiple, after `interval` − 1 of them, as the test views are) and the best-scoring model is
 // kept. When the schedule reaches `decide_at` (half-way through growth in the compact
 // recipe) the holdout decides once:
-//   - validation has held (the better of its last two scores within `fall_db` of its best):
-//     the views rejoin training and the run goes on as it would have;
-//   - it has fallen: the best model is restored and training stops there ("validation").
-// Two scores rather than one, so that a single dip (real_cup dips 0.4 dB for 1,000 iterations
-// mid-run and rises 1.2 dB after) is not read as a fall.
+//   - validation has held (the median of its last three scores within `fall_db` of the best
+//     median of three consecutive ones): the views rejoin training and the run goes on as it
+//     would have;
+//   - it has fallen: the best-scoring model is restored and training stops there
+//     ("validation").
+// Medians of three rather than single scores, so that neither a single dip (real_cup dips
+// 0.4 dB for 1,000 iterations mid-run and rises 1.2 dB after) nor a single high score
+// (real_thermos wanders ±0.3 dB between neighbouring scores after its resolution warm-up) is
+// read as a fall.
 #include <cstddef>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -73,6 +77,11 @@ class ValidationHoldout {
   };
   // The first of the highest scores (none before the first).
   std::optional<Score> best() const;
+  // The median of the kMedianWidth scores that end at index `last` (of fewer at the start).
+  double median_at(std::size_t last) const;
+  // How far the median of the last scores is below the best median (≥ 0; scores not empty).
+  double fall_db() const;
+  static constexpr std::size_t kMedianWidth = 3;
 
   ValidationSettings settings_;
   std::vector<std::size_t> train_indices_;  // of the held-out views, ascending

@@ -112,41 +112,53 @@ TEST(ValidationHoldout, ScoresAtItsIntervalWhileActive) {
   EXPECT_TRUE(holdout.due(252, 4));  // a batch of views 249..252 holds 250
 }
 
-TEST(ValidationHoldout, KeepsTheBestModelAndRestoresItWhenTheLastTwoScoresFell) {
+TEST(ValidationHoldout, KeepsTheBestModelAndRestoresItWhenTheMedianOfTheLastThreeFell) {
   ValidationHoldout holdout(capture(12, true), every(4));
   using D = ValidationHoldout::Decision;
   EXPECT_EQ(holdout.record(100, 20.0, model_of_size(1), 0.1), D::kWait);
-  EXPECT_EQ(holdout.record(200, 22.0, model_of_size(2), 0.2), D::kWait);  // the best
-  EXPECT_EQ(holdout.record(300, 21.5, model_of_size(3), 0.3), D::kWait);
+  // The medians of three (of one and two at the start, the upper one): 20, 22, 21.9, 21.9,
+  // 21.8, 21.5 and, last, 21.5.
+  EXPECT_EQ(holdout.record(200, 22.0, model_of_size(2), 0.2), D::kWait);  // the best score
+  EXPECT_EQ(holdout.record(300, 21.9, model_of_size(3), 0.3), D::kWait);
+  EXPECT_EQ(holdout.record(400, 21.8, model_of_size(4), 0.35), D::kWait);
+  EXPECT_EQ(holdout.record(500, 21.5, model_of_size(5), 0.4), D::kWait);
+  EXPECT_EQ(holdout.record(600, 21.4, model_of_size(6), 0.45), D::kWait);
   EXPECT_EQ(holdout.best_model().size(), 2u);
-  EXPECT_EQ(holdout.record(400, 21.6, model_of_size(4), 0.5), D::kRestore);  // 0.4 below
+  EXPECT_EQ(holdout.record(700, 21.6, model_of_size(7), 0.5), D::kRestore);  // 0.5 below 22
   EXPECT_FALSE(holdout.active());
   EXPECT_TRUE(holdout.restored());
   EXPECT_EQ(holdout.best_model().size(), 2u);
   const nlohmann::json m = holdout.metrics();
   EXPECT_EQ(m.at("decision"), "restored");
   EXPECT_EQ(m.at("best").at("iteration"), 200);
-  EXPECT_EQ(m.at("decided_at_iteration"), 400);
-  EXPECT_EQ(m.at("scores").size(), 4u);
+  EXPECT_EQ(m.at("decided_at_iteration"), 700);
+  EXPECT_NEAR(m.at("fall_measured_db").get<double>(), 0.5, 1e-9);
+  EXPECT_EQ(m.at("scores").size(), 7u);
+  EXPECT_NE(holdout.restore_summary().find("fell 0.50 dB"), std::string::npos) << holdout.restore_summary();
+  EXPECT_NE(holdout.restore_summary().find("model of iteration 200"), std::string::npos);
   // Decided once: later scores change nothing.
-  EXPECT_EQ(holdout.record(500, 30.0, model_of_size(5), 0.6), D::kRestore);
-  EXPECT_EQ(holdout.metrics().at("scores").size(), 4u);
+  EXPECT_EQ(holdout.record(800, 30.0, model_of_size(8), 0.6), D::kRestore);
+  EXPECT_EQ(holdout.metrics().at("scores").size(), 7u);
 }
 
-TEST(ValidationHoldout, ASingleDipIsNotAFallAndViewsWithinTheMarginRejoin) {
+TEST(ValidationHoldout, NeitherASingleDipNorASingleHighScoreIsAFall) {
   using D = ValidationHoldout::Decision;
-  ValidationHoldout dip(capture(12, true), every(4));
-  dip.record(100, 22.0, model_of_size(1), 0.1);
-  dip.record(200, 21.9, model_of_size(1), 0.4);
-  EXPECT_EQ(dip.record(300, 20.0, model_of_size(1), 0.5), D::kRejoin);  // 21.9 is within 0.3
-  EXPECT_FALSE(dip.active());
-  EXPECT_FALSE(dip.holds_out(0));
-  EXPECT_FALSE(dip.restored());
-
-  ValidationHoldout rising(capture(12, true), every(4));
-  rising.record(100, 22.0, model_of_size(1), 0.1);
-  EXPECT_EQ(rising.record(200, 23.0, model_of_size(1), 0.5), D::kRejoin);
-  EXPECT_EQ(rising.metrics().at("decision"), "rejoined");
+  const auto decide = [](const std::vector<double>& scores) {
+    ValidationHoldout holdout(capture(12, true), every(4));
+    for (std::size_t i = 0; i + 1 < scores.size(); ++i)
+      EXPECT_EQ(holdout.record(100 * int(i + 1), scores[i], model_of_size(1), 0.1), D::kWait);
+    const D decision = holdout.record(100 * int(scores.size()), scores.back(), model_of_size(1), 0.5);
+    EXPECT_FALSE(holdout.active());
+    EXPECT_FALSE(holdout.holds_out(0));
+    return decision;
+  };
+  EXPECT_EQ(decide({22.0, 21.9, 20.0}), D::kRejoin);         // a dip of 1.9 dB, the last score
+  EXPECT_EQ(decide({22.0, 21.9, 20.0, 21.8}), D::kRejoin);   // one dip between two
+  // real_thermos after its warm-up: one score 0.4 above its neighbours is not the level.
+  EXPECT_EQ(decide({35.78, 36.25, 36.64, 35.95, 36.23}), D::kRejoin);
+  EXPECT_EQ(decide({22.0, 23.0}), D::kRejoin);               // rising
+  EXPECT_EQ(decide({22.0, 21.0, 21.0}), D::kRestore);        // two low scores are a fall
+  EXPECT_EQ(decide({22.0, 22.1, 21.0, 21.0}), D::kRestore);
 }
 
 TEST(ValidationHoldout, CheckpointStateRoundTripsAndOldCheckpointsTrainOnEveryView) {
