@@ -50,6 +50,10 @@ struct CompactSettings {
   // such Gaussians sit close in front of the one camera that draws them and spoil the test
   // views that pass by (bench/HISTORY.md, issue 40). 0 = off.
   float prune_min_view_share = 0.0f;
+  // The opacity decay and the view-share prune act only on data with a point cloud (a real
+  // capture), where they were chosen; synthetic data keeps its resets and what few views draw
+  // (density_strategy.hpp's compact_settings_for). The preset's is true.
+  bool real_capture_only = false;
   // At the end of every window, to the end of the run, Gaussians inside a training camera's
   // frame nearer than this factor × that camera's near bound (the depth its structure-from-
   // motion points begin at, points_near_bounds.hpp) are pruned: they sit in space the capture

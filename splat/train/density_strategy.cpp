@@ -10,9 +10,13 @@ namespace splat {
 
 CompactSettings compact_settings_for(const CompactSettings& configured, const Dataset& dataset) {
   CompactSettings settings = configured;
-  // The decay was chosen on real captures (issue 40); synthetic data keeps the resets, as the
-  // holdout and the near-points prune leave it untouched.
-  if (!dataset.points) settings.opacity_decay = 0.0f;
+  // The decay and the view-share prune were chosen on real captures (issue 40); synthetic
+  // data keeps the resets and its few-view Gaussians, as the holdout and the near-points
+  // prune leave it untouched.
+  if (configured.real_capture_only && !dataset.points) {
+    settings.opacity_decay = 0.0f;
+    settings.prune_min_view_share = 0.0f;
+  }
   return settings;
 }
 

@@ -95,8 +95,9 @@ class DensityStrategy {
   virtual nlohmann::json metrics() const { return nlohmann::json::object(); }
 };
 
-// The compact settings that act on `dataset`: the configured ones, with the opacity decay off
-// on data without a point cloud (synthetic scenes keep the resets they were tuned with).
+// The compact settings that act on `dataset`: the configured ones, with the opacity decay and
+// the view-share prune off on data without a point cloud while `real_capture_only` (synthetic
+// scenes keep the resets and the few-view Gaussians they were tuned with).
 CompactSettings compact_settings_for(const CompactSettings& configured, const Dataset& dataset);
 
 // The strategy named by config.strategy, for training on `dataset` (its training views and,

@@ -227,6 +227,7 @@ TEST(TrainCli, ResumeContinuesExactlyWithPruningByViewShare) {
   const fs::path dir = test::scratch_dir("train_cli_resume_view_share");
   nlohmann::json config = read_json(tiny_dataset() / "tiny_config.json");
   config["compact_prune_min_view_share"] = 0.3;
+  config["compact_real_capture_only"] = false;  // the demo data has no point cloud
   test::write_text(dir / "config.json", config.dump());
   const auto command = [&](const fs::path& out, const std::string& extra) {
     return std::string(SPLAT_TRAIN_EXE) + " --data " + tiny_dataset().string() + " --out " + out.string() +

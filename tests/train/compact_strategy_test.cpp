@@ -376,17 +376,24 @@ TEST(CompactStrategy, OpacityDecayTakesOverFromTheResetsAtItsStart) {
 
 // The preset decays opacities on a real capture (a point cloud) from half-way through growth;
 // data without a point cloud keeps the resets alone.
-TEST(CompactStrategy, ThePresetDecaysOpacityOnlyWithAPointCloud) {
+TEST(CompactStrategy, ThePresetDecaysOpacityAndPrunesByViewShareOnlyWithAPointCloud) {
   const CompactSettings preset = splat_training_preset("compact").compact;
   ASSERT_GT(preset.opacity_decay, 0.0f);
+  ASSERT_GT(preset.prune_min_view_share, 0.0f);
   EXPECT_EQ(preset.opacity_decay_from, preset.grow_until / 2);
   EXPECT_GT(preset.opacity_reset_interval, 0);
   Dataset capture;
   capture.points = PointCloud{};
   EXPECT_EQ(compact_settings_for(preset, capture).opacity_decay, preset.opacity_decay);
+  EXPECT_EQ(compact_settings_for(preset, capture).prune_min_view_share, preset.prune_min_view_share);
   const Dataset synthetic;
   EXPECT_EQ(compact_settings_for(preset, synthetic).opacity_decay, 0.0f);
+  EXPECT_EQ(compact_settings_for(preset, synthetic).prune_min_view_share, 0.0f);
   EXPECT_EQ(compact_settings_for(preset, synthetic).opacity_reset_interval, preset.opacity_reset_interval);
+  CompactSettings everywhere = preset;  // compact_real_capture_only false: as configured
+  everywhere.real_capture_only = false;
+  EXPECT_EQ(compact_settings_for(everywhere, synthetic).opacity_decay, preset.opacity_decay);
+  EXPECT_EQ(compact_settings_for(everywhere, synthetic).prune_min_view_share, preset.prune_min_view_share);
 }
 
 }  // namespace
