@@ -188,7 +188,8 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
     // for good (seed 1: 28.85 dB, 0.38 below its best; with this 29.84, at its best), and the
     // captures that held stay where they were (bench/HISTORY.md, issue 40's 29th session).
     // Decay from the start lifts real_cup more but moves the holdout's early decisions
-    // (real_thermos stopped at 35.20, wild_statue restored a worse model).
+    // (wild_statue restored a worse model; real_thermos stopped at 35.20 under the
+    // single-score holdout of the 29th session).
     c.opacity_decay = 0.001f;
     c.opacity_decay_from = c.grow_until / 2;
     // A Gaussian must cover a fifth of a pixel's weight in at least one view of the window:
