@@ -212,8 +212,8 @@ SplatTrainingConfig splat_training_preset(const std::string& strategy) {
     // pruned at its end too: the floaters in front of real_cup's close-up view 61 sit inside
     // the frame of a median of one training view, explaining that photograph alone (real_cup
     // over seeds 0-3 at P6: 30.34-30.94 dB, median 30.48, against 29.73-31.12, median 29.89,
-    // without; real_plush -0.06, the other captures +0.00 to +0.06; bench/HISTORY.md,
-    // issue 40's thirtieth session).
+    // without; seeds 0 and 1: real_plush -0.06 and +0.05, real_juicebox +0.03 and -0.15;
+    // the thermos captures +0.04 and +0.06; bench/HISTORY.md, issue 40's thirtieth session).
     c.prune_min_view_share = 0.05f;
     c.real_capture_only = true;
     // On a real capture one training view in 32 is held out for the first half of growth,
