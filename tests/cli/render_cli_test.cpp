@@ -85,10 +85,8 @@ void expect_clean_failure(const std::string& args, const std::string& expected_i
   EXPECT_EQ(r.exit_code, 2) << args;
   EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << r.err;
   EXPECT_NE(r.err.find(expected_in_message), std::string::npos) << r.err;
-  // Nothing half-written: no temporary files and no PNGs.
-  if (std::filesystem::exists(dir / "out"))
-    for (const auto& e : std::filesystem::directory_iterator(dir / "out"))
-      ADD_FAILURE() << "left behind: " << e.path();
+  // Nothing is made before the inputs are known good: not even the output folder.
+  EXPECT_FALSE(std::filesystem::exists(dir / "out")) << args;
 }
 
 TEST(RenderCli, BadInputsFailCleanly) {
@@ -108,6 +106,9 @@ TEST(RenderCli, BadInputsFailCleanly) {
   expect_clean_failure(model + cams + " --bench x", "--bench", "cli_bad_bench");
   expect_clean_failure(" --model " + (dir / "model.nerf").string() + cams, "model.nerf", "cli_unknown_format");
   expect_clean_failure(cams, "--model", "cli_no_model");
+  const auto bad_nerf = dir / "bad.nerf";
+  test::write_text(bad_nerf, "SPLATNRF but not a model\n");
+  expect_clean_failure(" --model " + bad_nerf.string() + cams, bad_nerf.string(), "cli_bad_nerf");
 }
 
 }  // namespace
