@@ -647,6 +647,12 @@ echo "a file" >"$IN/a_file"
 mkdir -p "$IN/a_folder" "$IN/folder.mp4" "$IN/out.ply"
 
 DS=$IN/ds; M=$IN/demo/model.ply; CAMS=$IN/demo/cameras.json; TJ=$IN/tj; W=$IN/f32/w.f32
+# Models in training folders whose cameras_train.json (taken when no --cameras is given) is bad.
+for kind in malformed frames_empty matrix_3x4 folder; do
+  mkdir -p "$IN/beside_$kind"; cp "$M" "$IN/beside_$kind/model.ply"
+  if [[ $kind == folder ]]; then mkdir "$IN/beside_$kind/cameras_train.json"
+  else cp "$TJ/$kind.json" "$IN/beside_$kind/cameras_train.json"; fi
+done
 CK=$IN/tr/checkpoint.ckpt; NCK=$IN/trn/checkpoint.ckpt; NERF=$IN/trn/model.nerf
 T=(--data "$DS" --out "$NEW" --iters 20 --threads 1 --quiet --test-every 0)   # splat-train, tiny
 TC=("${T[@]}" --config "$IN/tiny_splat.json")
@@ -783,6 +789,14 @@ check "missing required option" "render without --model"   "--model"    splat-re
 check "missing required option" "render without --cameras" "--cameras"  splat-render --model "$M" --out "$NEW"
 check "wrong kind of file"  "render --out is a file"        "$IN/a_file" splat-render "${R[@]}" --out "$IN/a_file"
 check "nothing created on failure" "render frames ok, --video is a folder" "$IN/folder.mp4" splat-render "${RP[@]}" --video "$IN/folder.mp4"
+for kind in malformed frames_empty matrix_3x4; do
+  check "cameras beside the model" "render orbit, $kind cameras_train.json beside" "$IN/beside_$kind/cameras_train.json" \
+    splat-render --model "$IN/beside_$kind/model.ply" --path orbit --frames 2 --width 16 --height 16 --out "$NEW"
+  check "cameras beside the model" "viewer, $kind cameras_train.json beside" "$IN/beside_$kind/cameras_train.json" \
+    splat-viewer "$IN/beside_$kind/model.ply" "${V[@]}"
+done
+check "cameras beside the model" "render interpolate, cameras_train.json a folder" "--cameras" \
+  splat-render --model "$IN/beside_folder/model.ply" --path interpolate --frames 2 --width 16 --height 16 --out "$NEW"
 
 # --- splat-viewer (DISPLAY unset: bad input must be reported before any window) ---
 check "no display"          "viewer valid model, no DISPLAY" "DISPLAY"   splat-viewer "$M" "${V[@]}"

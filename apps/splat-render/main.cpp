@@ -11,6 +11,7 @@
 #include "apps/common/run_main.hpp"
 #include "apps/common/render_command.hpp"
 #include "splat/core/error.hpp"
+#include "splat/train/trainer_adapter.hpp"
 
 namespace {
 
@@ -34,7 +35,9 @@ fly-through: N frames along a camera path, as a video and/or <out>/frame_0000.pn
                       splat-train --method nerf or ngp)
   --cameras FILE      transforms JSON (camera_angle_x or fl_x/fl_y/cx/cy, transform_matrix);
                       with --path orbit/spiral, the circle follows these cameras (their
-                      centre, distance, height, up and field of view)
+                      centre, distance, height, up and field of view); with --path and no
+                      --cameras, the cameras_train.json that splat-train wrote beside the
+                      model, when it is there
   --out DIR           output folder (created if missing); with --path optional when
                       --video is given (frames are written as frame_0000.png ...)
   --width, --height   image size (default: the dataset's images, else 800x800; for a video,
@@ -70,8 +73,6 @@ void read_path_options(const splat::cli::ArgParser& args, splat::cli::RenderComm
   else if (*path == "spiral") options.path = CameraPathKind::kSpiral;
   else if (*path == "interpolate") options.path = CameraPathKind::kInterpolate;
   else throw ArgumentError("--path must be orbit, spiral or interpolate, not '" + *path + "'");
-  if (options.path == CameraPathKind::kInterpolate && !args.has("cameras"))
-    throw ArgumentError("--path interpolate goes through the views of --cameras, which is missing");
   options.frames = args.integer("frames", {1, kMaxPathFrames}).value_or(options.frames);
   options.video = args.value("video").value_or("");
   options.fps = args.number("fps", {0.01, kMaxFps}).value_or(options.fps);
@@ -102,6 +103,16 @@ int main(int argc, char** argv) {
     } else {
       options.cameras = args.value("cameras").value_or("");
       options.out = args.value("out").value_or("");
+      if (options.cameras.empty()) {
+        if (auto beside = splat::training_cameras_in(options.model.parent_path())) {
+          options.cameras = *beside;
+          std::printf("cameras: %s, the views the model trained on (--cameras to choose others)\n",
+                      beside->string().c_str());
+        } else if (options.path == splat::cli::CameraPathKind::kInterpolate) {
+          throw splat::ArgumentError("--path interpolate goes through the views of --cameras, which is missing (and no " +
+                                     std::string(splat::kTrainCamerasFileName) + " is beside the model)");
+        }
+      }
     }
     options.width = args.integer("width", splat::cli::kImageSideRange).value_or(0);
     options.height = args.integer("height", splat::cli::kImageSideRange).value_or(0);

@@ -8,6 +8,7 @@
 #include "splat/core/error.hpp"
 #include "apps/splat-viewer/viewer_app.hpp"
 #include "apps/splat-viewer/watched_model.hpp"
+#include "splat/train/trainer_adapter.hpp"
 
 namespace {
 
@@ -25,9 +26,10 @@ DIR/model.ply (or .nerf, .ngp), looked for twice a second; waits up to 10 minute
 Controls: left drag orbit, right/middle drag pan, scroll zoom, W A S D Q E fly, R reset,
 [ ] dataset views, + - SH degree, B background, P screenshot, H help, Esc quit.
 
-  --watch DIR           follow a running training's model (see above); with no --cameras,
-                        DIR/cameras_train.json when it is there
+  --watch DIR           follow a running training's model (see above)
   --cameras FILE        transforms JSON: start at its view, step through them with [ ]
+                        (default: the cameras_train.json splat-train wrote beside the
+                        (first) model or in the --watch folder, when it is there)
   --view K              the view of --cameras to start at (default 0)
   --width W --height H  size of one panel (default: the cameras' image size, else 800x600)
   --bg COLOUR           background: white, black or R,G,B in [0, 1] (default white)
@@ -66,8 +68,14 @@ int main(int argc, char** argv) {
     const auto width = args.integer("width", kWindowSideRange), height = args.integer("height", kWindowSideRange);
     if (width.has_value() != height.has_value()) throw splat::ArgumentError("give both --width and --height, or neither");
     std::optional<std::string> cameras_file = args.value("cameras");
-    if (watch && !cameras_file && std::filesystem::exists(std::filesystem::path(*watch) / "cameras_train.json"))
-      cameras_file = (std::filesystem::path(*watch) / "cameras_train.json").string();
+    if (!cameras_file) {
+      // The views the model trained on, when the run left them beside it.
+      const std::filesystem::path folder = watch ? std::filesystem::path(*watch) : std::filesystem::path(files.front()).parent_path();
+      if (auto beside = splat::training_cameras_in(folder)) {
+        cameras_file = beside->string();
+        std::printf("cameras: %s, the views the model trained on (--cameras to choose others)\n", cameras_file->c_str());
+      }
+    }
     if (auto file = cameras_file) {
       splat::TransformsOptions transforms;
       if (width) transforms.width = *width, transforms.height = *height;

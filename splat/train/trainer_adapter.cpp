@@ -210,4 +210,11 @@ std::vector<std::filesystem::path> write_view_cameras(const TrainerAdapter& trai
   return written;
 }
 
+std::optional<std::filesystem::path> training_cameras_in(const std::filesystem::path& folder) {
+  const std::filesystem::path file = folder / kTrainCamerasFileName;
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(file, ec)) return file;
+  return std::nullopt;
+}
+
 }  // namespace splat

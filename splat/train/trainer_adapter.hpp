@@ -3,6 +3,7 @@
 // loop, progress, history, test renders, checkpoints, Ctrl-C and divergence handling.
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -78,5 +79,10 @@ inline constexpr const char* kTestCamerasFileName = "cameras_test.json";
 // when there are some, removing a file an earlier run in the same folder left otherwise.
 std::vector<std::filesystem::path> write_view_cameras(const TrainerAdapter& trainer, const Dataset& dataset,
                                                       const std::filesystem::path& folder);
+// The training views' cameras file a run left in `folder`, when it is there: what a fly-through
+// and the viewer follow when given no --cameras, so that a real capture's model is seen the way
+// it was photographed (its up, centre and distance) rather than framed from its Gaussians with
+// world z up, which for a capture's model (its background included) misses the object.
+std::optional<std::filesystem::path> training_cameras_in(const std::filesystem::path& folder);
 
 }  // namespace splat

@@ -242,6 +242,31 @@ TEST(RenderCli, OrbitFollowsTheCapturesCameras) {
   for (const char* frame : {"frame_0000.png", "frame_0003.png"}) expect_framed(read_image(dir / "frames" / frame), frame);
 }
 
+TEST(RenderCli, FlyThroughsFollowTheTrainingCamerasBesideTheModel) {
+  // A model in a splat-train output folder: with no --cameras, its cameras_train.json frames
+  // the orbit (the same frames as naming it) and gives interpolate its views.
+  const auto dir = test::scratch_dir("render_cli_cameras_beside");
+  fs::create_directories(dir / "run");
+  fs::copy_file(conformance("lego_subset50k.ply"), dir / "run" / "model.ply");
+  fs::copy_file(conformance("transforms_test.json"), dir / "run" / "cameras_train.json");
+  const std::string model = " --model " + (dir / "run" / "model.ply").string();
+  const std::string size = " --frames 3 --width 48 --height 48";
+  const CommandResult implicit = run_render(model + " --path orbit" + size + " --out " + (dir / "implicit").string(), dir);
+  ASSERT_EQ(implicit.exit_code, 0) << implicit.err;
+  EXPECT_NE(implicit.out.find("cameras: " + (dir / "run" / "cameras_train.json").string()), std::string::npos)
+      << implicit.out;
+  EXPECT_NE(implicit.out.find(", 1), 4.03 away, 38 deg above, 40 deg field of view"), std::string::npos) << implicit.out;
+  const CommandResult named = run_render(model + " --cameras " + conformance("transforms_test.json") + " --path orbit" +
+                                             size + " --out " + (dir / "named").string(),
+                                         dir);
+  ASSERT_EQ(named.exit_code, 0) << named.err;
+  for (const char* frame : {"frame_0000.png", "frame_0002.png"})
+    EXPECT_TRUE(slurp(dir / "implicit" / frame) == slurp(dir / "named" / frame)) << frame;
+  const CommandResult through = run_render(model + " --path interpolate" + size + " --out " + (dir / "through").string(), dir);
+  EXPECT_EQ(through.exit_code, 0) << through.err;
+  EXPECT_TRUE(fs::exists(dir / "through" / "frame_0002.png"));
+}
+
 TEST(RenderCli, FlyThroughANerf) {
   const auto dir = test::scratch_dir("render_cli_nerf_path");
   const fs::path nerf = dir / "tiny.nerf";

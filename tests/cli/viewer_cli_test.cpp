@@ -70,6 +70,23 @@ TEST(ViewerCli, ScreenshotOfAViewMatchesSplatRender) {
   EXPECT_GE(psnr(crop(viewer, 0, 200), reference_render(conformance("lego_subset50k.ply"), dir)), 40.0);
 }
 
+TEST(ViewerCli, AModelInATrainingFolderStartsAtItsFirstTrainingView) {
+  // No --cameras: the cameras_train.json beside the model gives the views, as in a
+  // splat-train output folder, so the first picture is its view 0.
+  const fs::path dir = test::scratch_dir("viewer_cli_cameras_beside");
+  fs::create_directories(dir / "run");
+  fs::copy_file(conformance("lego_subset50k.ply"), dir / "run" / "model.ply");
+  fs::copy_file(conformance("transforms_test.json"), dir / "run" / "cameras_train.json");
+  const fs::path shot = dir / "shot.png";
+  const auto r = test::run_command(under_xvfb(std::string(SPLAT_VIEWER_EXE) + " " + (dir / "run" / "model.ply").string() +
+                                                  " --width 200 --height 200 --screenshot " + shot.string(),
+                                              131),
+                                   dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("cameras: " + (dir / "run" / "cameras_train.json").string()), std::string::npos) << r.out;
+  EXPECT_GE(psnr(crop(read_image(shot), 0, 200), reference_render(conformance("lego_subset50k.ply"), dir)), 40.0);
+}
+
 TEST(ViewerCli, TwoModelsSideBySideWithANerfRefinedToFullResolution) {
   const fs::path dir = test::scratch_dir("viewer_cli_two");
   const fs::path nerf = dir / "tiny.nerf";
