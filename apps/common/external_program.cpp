@@ -5,10 +5,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "splat/core/error.hpp"
 
@@ -29,7 +31,8 @@ bool program_on_path(const std::string& name) {
   return false;
 }
 
-int run_program(const std::vector<std::string>& arguments, const std::filesystem::path& log) {
+int run_program(const std::vector<std::string>& arguments, const std::filesystem::path& log,
+                const std::function<void()>& while_running) {
   std::vector<char*> argv;
   for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
@@ -43,8 +46,14 @@ int run_program(const std::vector<std::string>& arguments, const std::filesystem
   posix_spawn_file_actions_destroy(&actions);
   if (started != 0) throw ArgumentError("cannot run " + arguments[0] + ": " + std::strerror(started));
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) throw ArgumentError("lost track of " + arguments[0] + ": " + std::strerror(errno));
+  for (;;) {
+    const pid_t done = ::waitpid(pid, &status, while_running ? WNOHANG : 0);
+    if (done == pid) break;
+    if (done < 0 && errno != EINTR) throw ArgumentError("lost track of " + arguments[0] + ": " + std::strerror(errno));
+    if (done == 0) {
+      while_running();
+      std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    }
   }
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);

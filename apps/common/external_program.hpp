@@ -2,6 +2,7 @@
 // Running the outside programs some tools drive (COLMAP, ffmpeg) without a shell: arguments
 // go through as they are (no quoting), output goes to a log file the user can read.
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -11,9 +12,11 @@ namespace splat::cli {
 bool program_on_path(const std::string& name);
 
 // Runs `arguments` (arguments[0] looked up on PATH) with stdout and stderr appended to `log`,
-// and waits. Returns the exit status (128 + signal when killed). ArgumentError when it cannot
-// be started.
-int run_program(const std::vector<std::string>& arguments, const std::filesystem::path& log);
+// and waits, calling `while_running` (when given) about four times a second meanwhile, to
+// report progress from the log. Returns the exit status (128 + signal when killed).
+// ArgumentError when it cannot be started.
+int run_program(const std::vector<std::string>& arguments, const std::filesystem::path& log,
+                const std::function<void()>& while_running = {});
 
 // The last non-empty line of `file`, trimmed (empty when it cannot be read), for a one-line
 // error message.

@@ -24,9 +24,18 @@ struct Reconstruction {
   int models = 0;                            // how many the mapper made
 };
 
-// Runs the three stages in turn, calling `stage(name)` before each (for progress), with
-// COLMAP's output appended to work_dir/colmap.log. ArgumentError (with the log's tail) when a
-// stage fails or makes no model.
-Reconstruction run_colmap(const ColmapRunOptions& options, const std::function<void(const std::string&)>& stage);
+// How far a stage has gone, from the lines COLMAP 3.8 logs as it works ("Processed file
+// [12/77]", "Matching block [1/2, 2/2]", "Matching image [40/77]", "Registering image #3
+// (40)"): "features of 12/77 images", "2/4 blocks of pairs matched", "40/77 images matched",
+// "40 images registered"; empty for any other line.
+std::string colmap_progress(const std::string& log_line);
+
+// Runs the three stages in turn, calling `stage(name)` before each and, about four times a
+// second while one runs, `progress(text)` with the newest progress its log shows
+// (colmap_progress; empty before the first), with COLMAP's output appended to
+// work_dir/colmap.log. ArgumentError (with the log's tail) when a stage fails or makes no
+// model.
+Reconstruction run_colmap(const ColmapRunOptions& options, const std::function<void(const std::string&)>& stage,
+                          const std::function<void(const std::string&)>& progress);
 
 }  // namespace splat::process

@@ -2,6 +2,8 @@
 // splat-train --data reads (docs/DESIGN.md §5 "splat-process"): photos imported at a size the
 // trainer handles (or sharp frames taken from the video by ffmpeg), then COLMAP's features,
 // matching and mapper, and its largest reconstruction kept as sparse/0.
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -64,6 +66,50 @@ double lap(std::chrono::steady_clock::time_point& start) {
   start = now;
   return seconds;
 }
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string seconds_text(double seconds) { return std::to_string(std::lround(seconds)) + " s"; }
+
+// COLMAP's progress within a stage, with the stage's seconds so far: on a terminal one line
+// redrawn in place as either changes; otherwise (a log) a line when the progress has changed
+// and kPlainInterval has passed since the last line.
+class StageProgress {
+ public:
+  explicit StageProgress(bool terminal) : terminal_(terminal), last_line_(std::chrono::steady_clock::now()) {}
+  void show(const std::string& progress, double seconds) {
+    const std::string text = "  " + (progress.empty() ? "" : progress + ", ") + seconds_text(seconds);
+    if (text == drawn_text_) return;
+    if (terminal_) {
+      std::printf("\r%-*s", int(std::max<std::size_t>(text.size(), drawn_)), text.c_str());
+      drawn_ = text.size();
+      drawn_text_ = text;
+    } else {
+      if (progress.empty() || progress == printed_progress_ || seconds_since(last_line_) < kPlainInterval) return;
+      std::printf("%s\n", text.c_str());
+      printed_progress_ = progress;
+      last_line_ = std::chrono::steady_clock::now();
+    }
+    std::fflush(stdout);
+  }
+  // The stage's closing line, over the redrawn one.
+  void end_stage(const std::string& text) {
+    std::printf(terminal_ && drawn_ > 0 ? "\r%-*s\n" : "%-*s\n", int(std::max<std::size_t>(text.size(), drawn_)), text.c_str());
+    drawn_ = 0;
+    drawn_text_.clear();
+    printed_progress_.clear();
+    last_line_ = std::chrono::steady_clock::now();
+  }
+
+ private:
+  static constexpr double kPlainInterval = 5;
+  bool terminal_;
+  std::size_t drawn_ = 0;
+  std::string drawn_text_, printed_progress_;
+  std::chrono::steady_clock::time_point last_line_;
+};
 
 std::string joined(const std::vector<std::string>& names, std::size_t most) {
   std::string text;
@@ -166,12 +212,16 @@ int main(int argc, char** argv) {
       std::printf("  %.0f s\n", lap(clock));
 
       int step = 0;
-      const splat::process::Reconstruction model = splat::process::run_colmap(colmap, [&](const std::string& stage) {
-        if (step > 0) std::printf("  %.0f s\n", lap(clock));
-        std::printf("COLMAP %d/3: %s (log: %s)\n", ++step, stage.c_str(), (colmap.work_dir / "colmap.log").c_str());
-        std::fflush(stdout);
-      });
-      std::printf("  %.0f s\n", lap(clock));
+      StageProgress progress(::isatty(STDOUT_FILENO) == 1);
+      const splat::process::Reconstruction model = splat::process::run_colmap(
+          colmap,
+          [&](const std::string& stage) {
+            if (step > 0) progress.end_stage("  " + seconds_text(lap(clock)));
+            std::printf("COLMAP %d/3: %s (log: %s)\n", ++step, stage.c_str(), (colmap.work_dir / "colmap.log").c_str());
+            std::fflush(stdout);
+          },
+          [&](const std::string& text) { progress.show(text, seconds_since(clock)); });
+      progress.end_stage("  " + seconds_text(lap(clock)));
 
       // Which inputs the model lacks, by name.
       std::vector<std::string> unregistered;

@@ -17,7 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string process(const std::string& args) { return std::string(SPLAT_PROCESS_EXE) + " " + args; }
+std::string process(const std::string& args) { return SPLAT_PROCESS_EXE " " + args; }
 
 void expect_one_error_line(const test::CommandResult& r, const std::string& message, const std::string& args) {
   EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.out << r.err;
@@ -76,6 +76,30 @@ TEST(ProcessCli, BadInputIsOneErrorLineAndNothingMade) {
   expect_one_error_line(test::run_command(no_tools + process("--video " + (dir / "v.mp4").string() + " --out " + out), dir),
                         "ffmpeg not found on PATH: install it with `sudo apt-get install ffmpeg`", "no ffmpeg");
   EXPECT_FALSE(fs::exists(out));
+}
+
+// COLMAP's own progress comes through while a stage runs (a log gets a line when it has
+// changed and 5 s have passed), and a failing stage ends in one error line quoting it, with
+// nothing made. A stand-in colmap on the PATH, so this runs without the benchmark data.
+TEST(ProcessCli, ColmapsProgressIsShownAndItsFailureIsOneErrorLine) {
+  const fs::path dir = test::scratch_dir("process_cli_progress");
+  fs::create_directories(dir / "photos");
+  for (const char* name : {"r_0", "r_48", "r_96"})
+    fs::copy_file(test::conformance_dir() / "reference" / (std::string(name) + ".png"), dir / "photos" / (std::string(name) + ".png"));
+  fs::create_directories(dir / "bin");
+  test::write_text(dir / "bin" / "colmap",
+                   "#!/bin/sh\necho 'Processed file [1/3]'\nsleep 6\necho 'Processed file [2/3]'\n"
+                   "echo 'the extractor gave up'\nexit 1\n");
+  fs::permissions(dir / "bin" / "colmap", fs::perms::owner_all);
+  const std::string out = (dir / "out").string();
+  const test::CommandResult r = test::run_command(
+      "env PATH=" + (dir / "bin").string() + ":/usr/bin:/bin " + process("--images " + (dir / "photos").string() + " --out " + out),
+      dir);
+  expect_one_error_line(r, "COLMAP's feature extraction failed (exit status 1); its last words: the extractor gave up", "fake colmap");
+  EXPECT_NE(r.out.find("COLMAP 1/3: extracting features"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\n  features of 1/3 images, "), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(out + ".partial"));
 }
 
 // Ten neighbouring photos of the cup and two of lego (another scene, another size: a camera
