@@ -59,16 +59,15 @@ void require_program(const std::string& name, const std::string& package) {
                                "` (Debian/Ubuntu; scripts/install-deps.sh installs it)");
 }
 
-// Seconds since `start`, and `start` moved to now.
-double lap(std::chrono::steady_clock::time_point& start) {
-  const auto now = std::chrono::steady_clock::now();
-  const double seconds = std::chrono::duration<double>(now - start).count();
-  start = now;
-  return seconds;
-}
-
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Seconds since `start`, and `start` moved to now.
+double lap(std::chrono::steady_clock::time_point& start) {
+  const double seconds = seconds_since(start);
+  start = std::chrono::steady_clock::now();
+  return seconds;
 }
 
 std::string seconds_text(double seconds) { return std::to_string(std::lround(seconds)) + " s"; }
@@ -83,8 +82,7 @@ class StageProgress {
     const std::string text = "  " + (progress.empty() ? "" : progress + ", ") + seconds_text(seconds);
     if (text == drawn_text_) return;
     if (terminal_) {
-      std::printf("\r%-*s", int(std::max<std::size_t>(text.size(), drawn_)), text.c_str());
-      drawn_ = text.size();
+      std::printf("\r%-*s", int(std::max(text.size(), drawn_text_.size())), text.c_str());
       drawn_text_ = text;
     } else {
       if (progress.empty() || progress == printed_progress_ || seconds_since(last_line_) < kPlainInterval) return;
@@ -96,8 +94,8 @@ class StageProgress {
   }
   // The stage's closing line, over the redrawn one.
   void end_stage(const std::string& text) {
-    std::printf(terminal_ && drawn_ > 0 ? "\r%-*s\n" : "%-*s\n", int(std::max<std::size_t>(text.size(), drawn_)), text.c_str());
-    drawn_ = 0;
+    std::printf(drawn_text_.empty() ? "%-*s\n" : "\r%-*s\n", int(std::max(text.size(), drawn_text_.size())),
+                text.c_str());
     drawn_text_.clear();
     printed_progress_.clear();
     last_line_ = std::chrono::steady_clock::now();
@@ -106,8 +104,8 @@ class StageProgress {
  private:
   static constexpr double kPlainInterval = 5;
   bool terminal_;
-  std::size_t drawn_ = 0;
-  std::string drawn_text_, printed_progress_;
+  std::string drawn_text_;  // the line redrawn in place on a terminal (empty: none)
+  std::string printed_progress_;
   std::chrono::steady_clock::time_point last_line_;
 };
 

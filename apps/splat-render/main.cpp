@@ -10,6 +10,7 @@
 #include "apps/common/arg_parser.hpp"
 #include "apps/common/run_main.hpp"
 #include "apps/common/render_command.hpp"
+#include "apps/common/training_cameras.hpp"
 #include "splat/core/error.hpp"
 #include "splat/train/trainer_adapter.hpp"
 
@@ -104,10 +105,8 @@ int main(int argc, char** argv) {
       options.cameras = args.value("cameras").value_or("");
       options.out = args.value("out").value_or("");
       if (options.cameras.empty()) {
-        if (auto beside = splat::training_cameras_in(options.model.parent_path())) {
+        if (auto beside = splat::cli::announced_training_cameras(options.model.parent_path())) {
           options.cameras = *beside;
-          std::printf("cameras: %s, the views the model trained on (--cameras to choose others)\n",
-                      beside->string().c_str());
         } else if (options.path == splat::cli::CameraPathKind::kInterpolate) {
           throw splat::ArgumentError("--path interpolate goes through the views of --cameras, which is missing (and no " +
                                      std::string(splat::kTrainCamerasFileName) + " is beside the model)");

@@ -4,11 +4,11 @@
 
 #include "apps/common/arg_parser.hpp"
 #include "apps/common/run_main.hpp"
+#include "apps/common/training_cameras.hpp"
 #include "apps/splat-viewer/panel_model.hpp"
 #include "splat/core/error.hpp"
 #include "apps/splat-viewer/viewer_app.hpp"
 #include "apps/splat-viewer/watched_model.hpp"
-#include "splat/train/trainer_adapter.hpp"
 
 namespace {
 
@@ -70,11 +70,9 @@ int main(int argc, char** argv) {
     std::optional<std::string> cameras_file = args.value("cameras");
     if (!cameras_file) {
       // The views the model trained on, when the run left them beside it.
-      const std::filesystem::path folder = watch ? std::filesystem::path(*watch) : std::filesystem::path(files.front()).parent_path();
-      if (auto beside = splat::training_cameras_in(folder)) {
-        cameras_file = beside->string();
-        std::printf("cameras: %s, the views the model trained on (--cameras to choose others)\n", cameras_file->c_str());
-      }
+      const std::filesystem::path folder =
+          watch ? std::filesystem::path(*watch) : std::filesystem::path(files.front()).parent_path();
+      if (auto beside = splat::cli::announced_training_cameras(folder)) cameras_file = beside->string();
     }
     if (auto file = cameras_file) {
       splat::TransformsOptions transforms;
